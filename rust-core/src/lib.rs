@@ -1,0 +1,24 @@
+//! Likeness core: personalized ARKit blendshapes from a two-minute iPhone
+//! capture, after Menzel, Botsch & Latoschik, *Automated Blendshape
+//! Personalization for Faithful Face Animations Using Commodity Smartphones*
+//! (VRST 2022).
+//!
+//! The pipeline runs one way: capture (§3.1) → [`session_file`] →
+//! personalization (§3.2) → avatar transfer (§3.3) → export. This crate holds
+//! every algorithm and every decision; it has no FFI and no command-line
+//! dependencies, so it stays small on the phone.
+
+#![warn(missing_docs)]
+
+pub mod arkit_names;
+pub mod atomic_write;
+pub mod session;
+pub mod session_file;
+pub mod topology;
+
+pub use arkit_names::{BLENDSHAPE_COUNT, Blendshape, UnknownBlendshape, Weights};
+pub use session::{
+    CapturedExpression, DeviceInfo, Frame, GroundTruth, Session, SessionError, Template,
+    TestExpression,
+};
+pub use topology::{GeometryError, Topology, TopologyError};

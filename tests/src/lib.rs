@@ -1,0 +1,1 @@
+//! Replay and end-to-end tests live in `tests/`.

@@ -12,6 +12,7 @@
 
 pub mod arkit_names;
 pub mod atomic_write;
+pub mod prompt_order;
 pub mod session;
 pub mod session_file;
 pub mod topology;

@@ -1,1 +1,20 @@
-//! Simulator (being written).
+//! `likeness-sim`: simulated people and iPhone TrueDepth captures.
+//!
+//! Likeness is tested without a phone: this crate plays the person, ARKit's
+//! face tracker and the capture app. Every constant is documented where it is
+//! defined and summarised, with its source, in `sim-data/README.md`.
+
+#![warn(missing_docs)]
+
+pub mod capture_session;
+pub mod face_mask;
+pub mod face_model;
+pub mod performance;
+pub mod regions;
+pub mod shape_spec;
+pub mod subject;
+pub mod template;
+pub mod test_expressions;
+pub mod tracker;
+
+pub use capture_session::{FRAME_RATE, simulate_session, simulate_session_with_progress};

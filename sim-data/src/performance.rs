@@ -264,7 +264,7 @@ pub fn perform_session(seed: u64, frame_rate: f64) -> Timeline {
         neutral_parts.push((
             shape,
             b.rng.random_range(0.0..0.03),
-            b.rng.random_range(0.0..6.28),
+            b.rng.random_range(0.0..std::f64::consts::TAU),
         ));
     }
     let mut t = NEUTRAL_HOLD;
@@ -330,9 +330,10 @@ pub fn perform_session(seed: u64, frame_rate: f64) -> Timeline {
     let mut activations = vec![[0.0; BLENDSHAPE_COUNT]; frames];
     for (f, a) in activations.iter_mut().enumerate() {
         let time = f as f64 / frame_rate;
-        if time < NEUTRAL_HOLD + 0.5 {
+        let fade = 1.0 - smoothstep(NEUTRAL_HOLD, NEUTRAL_HOLD + 0.5, time);
+        if fade > 0.0 {
             for (shape, amount, phase) in &neutral_parts {
-                a[*shape] += amount * (0.5 + 0.5 * (0.7 * time + phase).sin());
+                a[*shape] += fade * amount * (0.5 + 0.5 * (0.7 * time + phase).sin());
             }
         }
     }

@@ -221,3 +221,40 @@ fn the_same_seed_gives_the_same_person_and_another_seed_does_not() {
     assert_eq!(a.neutral, b.neutral);
     assert_ne!(a.neutral, c.neutral);
 }
+
+#[test]
+fn shapes_fold_at_most_one_percent_of_the_triangles() {
+    use glam::DVec3;
+    let tris = face_mask().topology.triangles();
+    let normals = |p: &[DVec3]| -> Vec<DVec3> {
+        tris.iter()
+            .map(|t| {
+                (p[t[1] as usize] - p[t[0] as usize]).cross(p[t[2] as usize] - p[t[0] as usize])
+            })
+            .collect()
+    };
+    let models = [
+        generic_model(),
+        Subject::from_seed(1).model,
+        Subject::from_seed(2).model,
+    ];
+    for model in &models {
+        let rest = normals(&model.neutral);
+        assert!(rest.iter().all(|n| n.z > 0.0), "neutral faces the camera");
+        // mouthClose alone presses the lips through each other, as ARKit's does.
+        for shape in Blendshape::ALL
+            .into_iter()
+            .filter(|s| *s != Blendshape::MouthClose)
+        {
+            let flipped = normals(&model.shape(shape))
+                .iter()
+                .zip(&rest)
+                .filter(|(a, b)| a.dot(**b) < 0.0)
+                .count();
+            assert!(
+                flipped * 100 <= tris.len(),
+                "{shape} folds {flipped} triangles"
+            );
+        }
+    }
+}

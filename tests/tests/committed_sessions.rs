@@ -1,0 +1,46 @@
+//! The committed sample sessions are exactly what the simulator makes from
+//! their seeds, and they fit the repository's budget.
+
+use likeness::session_file;
+use std::path::PathBuf;
+
+/// Seeds of the committed sessions (listed in sim-data/README.md).
+const SEEDS: [u64; 4] = [1, 2, 3, 4];
+
+fn path(seed: u64) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join(format!("../sim-data/sessions/subject-{seed}.likeness"))
+}
+
+#[test]
+fn each_committed_session_regenerates_identically_from_its_seed() {
+    for seed in SEEDS {
+        let committed = std::fs::read(path(seed)).expect("committed session exists");
+        let regenerated =
+            session_file::encode(&likeness_sim::simulate_session(seed)).expect("encodes");
+        assert!(
+            committed == regenerated,
+            "subject-{seed}.likeness differs from a fresh simulation of seed {seed}; \
+             if the simulator changed on purpose, bump SIMULATOR_VERSION and regenerate"
+        );
+    }
+}
+
+#[test]
+fn committed_sessions_stay_within_twenty_megabytes() {
+    let total: u64 = SEEDS
+        .iter()
+        .map(|s| std::fs::metadata(path(*s)).expect("exists").len())
+        .sum();
+    assert!(total <= 20_000_000, "committed sessions take {total} bytes");
+}
+
+#[test]
+fn committed_sessions_decode_to_complete_captures() {
+    for seed in SEEDS {
+        let s = session_file::read(&path(seed)).expect("decodes");
+        assert_eq!(s.captures.len(), 52, "seed {seed}");
+        assert!(s.truth.as_ref().is_some_and(|t| t.seed == seed));
+        assert!(s.frames.iter().all(|f| f.vertices.is_some()));
+    }
+}

@@ -1,1 +1,85 @@
-fn main() {}
+//! `likeness`: the desktop command. Simulates capture sessions, inspects
+//! session files, and runs the pipeline on them.
+//!
+//! Errors go to stderr with a non-zero exit status and never as a panic.
+
+mod info;
+mod progress;
+mod simulate;
+
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+/// Personalized ARKit blendshapes from a two-minute iPhone capture.
+#[derive(Parser)]
+#[command(name = "likeness", version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run the main job on the embedded sample session (or on a freshly
+    /// simulated subject with --seed) and summarize it.
+    Demo {
+        /// Simulate this subject instead of using the embedded sample.
+        #[arg(long)]
+        seed: Option<u64>,
+    },
+    /// Simulate a subject's full capture session and write it to a file.
+    Simulate {
+        /// Seed of the simulated subject and session.
+        #[arg(long)]
+        seed: u64,
+        /// Where to write the session file.
+        #[arg(long)]
+        out: PathBuf,
+        /// Keep meshes only this many seconds around each capture and test
+        /// expression (as the committed samples do); default: every frame.
+        #[arg(long, value_name = "SECONDS")]
+        geometry_window: Option<f64>,
+    },
+    /// Print a summary of a session file.
+    Info {
+        /// The session file.
+        file: PathBuf,
+        /// Print a JSON object instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+/// What a command can fail with: a message for the person at the terminal.
+pub type CliResult = Result<(), Box<dyn std::error::Error>>;
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Demo { seed } => simulate::demo(seed),
+        Command::Simulate {
+            seed,
+            out,
+            geometry_window,
+        } => simulate::simulate(seed, geometry_window, &out),
+        Command::Info { file, json } => info::info(&file, json),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            // Causes not already part of the message, outermost first.
+            let mut message = e.to_string();
+            let mut source = e.source();
+            while let Some(s) = source {
+                let cause = s.to_string();
+                if !message.contains(&cause) {
+                    message = format!("{message}: {cause}");
+                }
+                source = s.source();
+            }
+            eprintln!("error: {message}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -277,10 +277,7 @@ mod tests {
             let capitalized = name[..1].to_uppercase() + &name[1..];
             assert_eq!(Blendshape::parse(&capitalized), Ok(shape));
             assert_eq!(Blendshape::parse(&name.to_uppercase()), Ok(shape));
-            assert_eq!(
-                Blendshape::parse(&format!("blendShape1.{name}")),
-                Ok(shape)
-            );
+            assert_eq!(Blendshape::parse(&format!("blendShape1.{name}")), Ok(shape));
             let ict = name
                 .strip_suffix("Left")
                 .map(|s| format!("{s}_L"))
@@ -288,12 +285,22 @@ mod tests {
                 .unwrap_or_else(|| name.to_string());
             assert_eq!(Blendshape::parse(&ict), Ok(shape), "{ict}");
         }
-        assert_eq!(Blendshape::parse(" mouth_smile_left "), Ok(Blendshape::MouthSmileLeft));
+        assert_eq!(
+            Blendshape::parse(" mouth_smile_left "),
+            Ok(Blendshape::MouthSmileLeft)
+        );
     }
 
     #[test]
     fn unknown_names_are_errors_naming_the_text() {
-        for bad in ["", "eyeBlink", "eyeBlinkMiddle", "HeadYaw", "LeftEyePitch", "eyeBlink_X"] {
+        for bad in [
+            "",
+            "eyeBlink",
+            "eyeBlinkMiddle",
+            "HeadYaw",
+            "LeftEyePitch",
+            "eyeBlink_X",
+        ] {
             let err = Blendshape::parse(bad).unwrap_err();
             assert_eq!(err.0, bad);
             assert!(err.to_string().contains(&format!("{bad:?}")));

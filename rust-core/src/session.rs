@@ -39,13 +39,16 @@ pub struct Template {
 }
 
 impl Template {
-    /// Delta blendshape of `shape`: `shapes[j] − neutral`.
-    pub fn delta(&self, shape: Blendshape) -> Vec<Vec3> {
-        self.shapes[shape.index()]
-            .iter()
-            .zip(&self.neutral)
-            .map(|(s, n)| *s - *n)
-            .collect()
+    /// Delta blendshape of `shape`: `shapes[j] − neutral`, or `None` if the
+    /// template lacks that shape (an unvalidated template).
+    pub fn delta(&self, shape: Blendshape) -> Option<Vec<Vec3>> {
+        let mesh = self.shapes.get(shape.index())?;
+        Some(
+            mesh.iter()
+                .zip(&self.neutral)
+                .map(|(s, n)| *s - *n)
+                .collect(),
+        )
     }
 }
 
@@ -241,7 +244,11 @@ impl Session {
             ("blendshapes", truth.blendshapes.len(), BLENDSHAPE_COUNT),
             ("captures", truth.captures.len(), self.captures.len()),
             ("tests", truth.tests.len(), self.tests.len()),
-            ("test activations", truth.test_activations.len(), self.tests.len()),
+            (
+                "test activations",
+                truth.test_activations.len(),
+                self.tests.len(),
+            ),
         ];
         for (what, found, expected) in counts {
             if found != expected {
@@ -251,7 +258,11 @@ impl Session {
             }
         }
         topo.check_positions("true neutral", &truth.neutral)?;
-        let meshes = truth.blendshapes.iter().chain(&truth.captures).chain(&truth.tests);
+        let meshes = truth
+            .blendshapes
+            .iter()
+            .chain(&truth.captures)
+            .chain(&truth.tests);
         for (k, mesh) in meshes.enumerate() {
             topo.check_positions(&format!("ground-truth mesh {k}"), mesh)?;
         }

@@ -32,7 +32,9 @@ pub enum TopologyError {
     #[error("triangle count {0} is outside 1..={MAX_TRIANGLES}")]
     TriangleCount(usize),
     /// A corner refers to a vertex that does not exist.
-    #[error("triangle {triangle} refers to vertex {index}, but there are only {vertex_count} vertices")]
+    #[error(
+        "triangle {triangle} refers to vertex {index}, but there are only {vertex_count} vertices"
+    )]
     IndexOutOfRange {
         /// Index of the offending triangle.
         triangle: usize,
@@ -161,8 +163,14 @@ mod tests {
                 index: 2
             })
         );
-        assert_eq!(Topology::new(0, vec![[0, 1, 2]]), Err(TopologyError::VertexCount(0)));
-        assert_eq!(Topology::new(3, vec![]), Err(TopologyError::TriangleCount(0)));
+        assert_eq!(
+            Topology::new(0, vec![[0, 1, 2]]),
+            Err(TopologyError::VertexCount(0))
+        );
+        assert_eq!(
+            Topology::new(3, vec![]),
+            Err(TopologyError::TriangleCount(0))
+        );
     }
 
     #[test]
@@ -172,8 +180,14 @@ mod tests {
         assert!(topo.check_positions("neutral", &p).is_ok());
         p[1].y = f32::NAN;
         let err = topo.check_positions("frame 7", &p).unwrap_err();
-        assert_eq!(err.to_string(), "frame 7: vertex 1 has a NaN or infinite coordinate");
+        assert_eq!(
+            err.to_string(),
+            "frame 7: vertex 1 has a NaN or infinite coordinate"
+        );
         let err = topo.check_positions("neutral", &p[..2]).unwrap_err();
-        assert!(err.to_string().contains("2 vertices, but the topology has 3"));
+        assert!(
+            err.to_string()
+                .contains("2 vertices, but the topology has 3")
+        );
     }
 }

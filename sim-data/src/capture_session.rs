@@ -30,14 +30,34 @@ pub const SIMULATOR_VERSION: u32 = 1;
 /// Frame rate of ARKit face tracking (Hz).
 pub const FRAME_RATE: f64 = 60.0;
 
-/// Simulates the full session of the subject drawn from `seed`.
-pub fn simulate_session(seed: u64) -> Session {
-    simulate_session_with_progress(seed, &mut |_, _| {})
+/// Seconds of geometry the committed sample sessions keep on either side of
+/// each capture, test expression and the neutral scan (see
+/// [`SimulationOptions::geometry_window`]).
+pub const SAMPLE_GEOMETRY_WINDOW: f64 = 0.4;
+
+/// Choices of the simulated app.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SimulationOptions {
+    /// `None`: store every frame's mesh. `Some(s)`: store meshes only within
+    /// `s` seconds of a capture, a test expression or the neutral scan, as an
+    /// app that keeps a ring buffer of recent frames would; the other frames
+    /// keep their weights. Sessions with every mesh are 7–9 MB; the committed
+    /// samples use [`SAMPLE_GEOMETRY_WINDOW`] to stay within the
+    /// repository's budget.
+    pub geometry_window: Option<f64>,
 }
 
-/// As [`simulate_session`], calling `progress(done, total)` as frames are made.
-pub fn simulate_session_with_progress(
+/// Simulates the full session of the subject drawn from `seed`, with every
+/// frame's mesh.
+pub fn simulate_session(seed: u64) -> Session {
+    simulate_session_with(seed, SimulationOptions::default(), &mut |_, _| {})
+}
+
+/// As [`simulate_session`], with `options`, calling `progress(done, total)`
+/// as frames are made.
+pub fn simulate_session_with(
     seed: u64,
+    options: SimulationOptions,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Session {
     let mask = face_mask();
@@ -116,6 +136,21 @@ pub fn simulate_session_with_progress(
         })
         .collect();
     let neutral_frame = timeline.neutral_frame;
+    let neutral = frames[neutral_frame].vertices.clone().unwrap_or_default();
+    if let Some(window) = options.geometry_window {
+        let reach = (window * FRAME_RATE).round() as usize;
+        let centres: Vec<usize> = captures
+            .iter()
+            .filter_map(|c| c.frame.map(|f| f as usize))
+            .chain(timeline.tests.iter().map(|t| t.frame))
+            .chain(std::iter::once(neutral_frame))
+            .collect();
+        for (f, frame) in frames.iter_mut().enumerate() {
+            if !centres.iter().any(|c| c.abs_diff(f) <= reach) {
+                frame.vertices = None;
+            }
+        }
+    }
     debug_assert_eq!(
         neutral_frame,
         (NEUTRAL_SCAN_AT * FRAME_RATE).round() as usize
@@ -158,7 +193,7 @@ pub fn simulate_session_with_progress(
         frame_rate: FRAME_RATE as f32,
         topology: mask.topology.clone(),
         template: generic_template(),
-        neutral: frames[neutral_frame].vertices.clone().unwrap_or_default(),
+        neutral,
         frames,
         captures,
         tests,

@@ -17,4 +17,6 @@ pub mod template;
 pub mod test_expressions;
 pub mod tracker;
 
-pub use capture_session::{FRAME_RATE, simulate_session, simulate_session_with_progress};
+pub use capture_session::{
+    FRAME_RATE, SAMPLE_GEOMETRY_WINDOW, SimulationOptions, simulate_session, simulate_session_with,
+};

@@ -2,6 +2,7 @@
 //! their seeds, and they fit the repository's budget.
 
 use likeness::session_file;
+use likeness_sim::{SAMPLE_GEOMETRY_WINDOW, SimulationOptions};
 use std::path::PathBuf;
 
 /// Seeds of the committed sessions (listed in sim-data/README.md).
@@ -16,8 +17,11 @@ fn path(seed: u64) -> PathBuf {
 fn each_committed_session_regenerates_identically_from_its_seed() {
     for seed in SEEDS {
         let committed = std::fs::read(path(seed)).expect("committed session exists");
-        let regenerated =
-            session_file::encode(&likeness_sim::simulate_session(seed)).expect("encodes");
+        let options = SimulationOptions {
+            geometry_window: Some(SAMPLE_GEOMETRY_WINDOW),
+        };
+        let session = likeness_sim::simulate_session_with(seed, options, &mut |_, _| {});
+        let regenerated = session_file::encode(&session).expect("encodes");
         assert!(
             committed == regenerated,
             "subject-{seed}.likeness differs from a fresh simulation of seed {seed}; \
@@ -38,9 +42,18 @@ fn committed_sessions_stay_within_twenty_megabytes() {
 #[test]
 fn committed_sessions_decode_to_complete_captures() {
     for seed in SEEDS {
-        let s = session_file::read(&path(seed)).expect("decodes");
+        let s = session_file::read(path(seed)).expect("decodes");
         assert_eq!(s.captures.len(), 52, "seed {seed}");
         assert!(s.truth.as_ref().is_some_and(|t| t.seed == seed));
-        assert!(s.frames.iter().all(|f| f.vertices.is_some()));
+        // Geometry is kept around every capture, as the app's ring buffer would.
+        for c in &s.captures {
+            let f = c.frame.expect("simulated captures name their frame") as usize;
+            assert!(
+                s.frames[f].vertices.is_some(),
+                "seed {seed}: no mesh at capture of {}",
+                c.prompt
+            );
+            assert!(s.frames[f.saturating_sub(20)].vertices.is_some());
+        }
     }
 }

@@ -1,0 +1,125 @@
+//! The `likeness` command as a person uses it: summaries, JSON, and clear
+//! errors on bad input, never a panic.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn likeness(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_likeness"))
+        .args(args)
+        .output()
+        .expect("the likeness binary runs")
+}
+
+fn sample() -> String {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../sim-data/sessions/subject-2.likeness")
+        .display()
+        .to_string()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+#[test]
+fn info_json_has_the_documented_fields() {
+    let out = likeness(&["info", &sample(), "--json"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON on stdout");
+    assert_eq!(v["format_version"], 1);
+    assert_eq!(v["vertices"], 1220);
+    assert_eq!(v["triangles"], 2304);
+    assert_eq!(v["fps"], 60.0);
+    assert_eq!(v["prompts"], 52);
+    let frames = v["frames"].as_u64().unwrap();
+    let duration = v["duration_s"].as_f64().unwrap();
+    assert!((duration - (frames - 1) as f64 / 60.0).abs() < 1e-9);
+    assert!((20..=30).contains(&v["test_expressions"].as_u64().unwrap()));
+}
+
+#[test]
+fn info_prints_a_readable_summary() {
+    let out = likeness(&["info", &sample()]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("1220 vertices, 2304 triangles"), "{text}");
+    assert!(text.contains("52 of 52 prompts"), "{text}");
+}
+
+#[test]
+fn bad_files_are_clear_errors_not_panics() {
+    let dir = std::env::temp_dir().join(format!("likeness-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let garbage = dir.join("garbage.likeness");
+    std::fs::write(&garbage, b"this is not a session file").unwrap();
+    let truncated = dir.join("truncated.likeness");
+    let bytes = std::fs::read(sample()).unwrap();
+    std::fs::write(&truncated, &bytes[..bytes.len() / 2]).unwrap();
+    let mut newer = bytes[..64].to_vec();
+    newer[8] = 9;
+    let newer_path = dir.join("newer.likeness");
+    std::fs::write(&newer_path, &newer).unwrap();
+    let cases = [
+        (dir.join("missing.likeness"), "missing.likeness"),
+        (garbage, "not a Likeness session file"),
+        (truncated, "truncated"),
+        (newer_path, "unsupported session format version 9"),
+    ];
+    for (path, expected) in cases {
+        let out = likeness(&["info", path.to_str().unwrap()]);
+        let err = stderr(&out);
+        assert!(!out.status.success(), "{path:?} succeeded");
+        assert!(!err.contains("panicked"), "{err}");
+        assert!(
+            err.to_lowercase().contains(&expected.to_lowercase()),
+            "{path:?}: {err}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn simulate_writes_a_session_that_info_reads() {
+    let dir = std::env::temp_dir().join(format!("likeness-sim-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("s.likeness");
+    let out = likeness(&[
+        "simulate",
+        "--seed",
+        "9",
+        "--geometry-window",
+        "0.2",
+        "--out",
+        file.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(
+        out.stdout.is_empty(),
+        "progress must not go to stdout when piped"
+    );
+    let info = likeness(&["info", file.to_str().unwrap(), "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&info.stdout).unwrap();
+    assert_eq!(v["ground_truth"], true);
+    assert!(v["frames_with_geometry"].as_u64().unwrap() < v["frames"].as_u64().unwrap());
+    let leftovers = std::fs::read_dir(&dir).unwrap().count();
+    assert_eq!(leftovers, 1, "no temporary files left behind");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn writing_into_a_missing_folder_is_an_error() {
+    let out = likeness(&[
+        "simulate",
+        "--seed",
+        "1",
+        "--out",
+        "/nonexistent-likeness/x.likeness",
+    ]);
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains("/nonexistent-likeness/x.likeness"),
+        "{}",
+        stderr(&out)
+    );
+}

@@ -4,6 +4,7 @@
 //! Errors go to stderr with a non-zero exit status and never as a panic.
 
 mod info;
+mod personalize;
 mod progress;
 mod simulate;
 
@@ -41,6 +42,28 @@ enum Command {
         #[arg(long, value_name = "SECONDS")]
         geometry_window: Option<f64>,
     },
+    /// Personalize a session's blendshapes and write them as OBJ files
+    /// (neutral.obj and one file per ARKit name).
+    Personalize {
+        /// The session file.
+        file: PathBuf,
+        /// dt, ebfr, paper, paper-cv or multi.
+        #[arg(long, default_value = "paper-cv")]
+        method: likeness::personalization::Method,
+        /// Folder for the OBJ files (created if missing).
+        #[arg(long)]
+        out: PathBuf,
+    },
+    /// Evaluate every method on the sessions' held-out test expressions
+    /// (the paper's §4.1) and print the table.
+    Evaluate {
+        /// Session files.
+        #[arg(required = true)]
+        files: Vec<PathBuf>,
+        /// Print a JSON object instead of the table.
+        #[arg(long)]
+        json: bool,
+    },
     /// Print a summary of a session file.
     Info {
         /// The session file.
@@ -64,6 +87,10 @@ fn main() -> ExitCode {
             geometry_window,
         } => simulate::simulate(seed, geometry_window, &out),
         Command::Info { file, json } => info::info(&file, json),
+        Command::Personalize { file, method, out } => {
+            personalize::personalize_command(&file, method, &out)
+        }
+        Command::Evaluate { files, json } => personalize::evaluate_command(&files, json),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -12,7 +12,18 @@
 
 pub mod arkit_names;
 pub mod atomic_write;
+pub mod blendshape_fit;
+pub mod deformation_gradient;
+pub mod deformation_transfer;
+pub mod ebfr;
+pub mod evaluation;
+pub mod frame_selection;
+pub mod lambda_selection;
+pub mod mesh_boundary;
+pub mod obj_export;
+pub mod personalization;
 pub mod prompt_order;
+pub mod regularization_weights;
 pub mod session;
 pub mod session_file;
 pub mod topology;

@@ -1,0 +1,299 @@
+//! §3.2, Eq. (1)–(2): the regularized fit of personalized blendshapes.
+//!
+//! Minimize over the delta blendshapes `B_1 … B_m`
+//!
+//! ```text
+//! E = Σ_i c_i ‖B_0 + Σ_j w_ij B_j − S_i‖²  +  λ Σ_j ‖D_j (B_j − T_j)‖²
+//! ```
+//!
+//! where `S_i` are observed meshes with tracked weights `w_i` (the captured
+//! expressions; for the `multi` method also frames around them, with
+//! importances `c_i`), `T_j` the generic blendshapes transferred to `B_0`,
+//! and `D_j` the weights of Eq. (3). The paper's energy is `λ = 1`,
+//! `c_i = 1`.
+//!
+//! Neither term couples vertices, so the normal equations split into one
+//! small system per vertex `v`, with three right-hand sides (x, y, z):
+//!
+//! ```text
+//! (Wᵀ C W + λ D_v²) b_v = Wᵀ C r_v + λ D_v² t_v
+//! ```
+//!
+//! `Wᵀ C W` (m × m) is the same for every vertex and is formed once; only
+//! the diagonal `λ D_v²` changes, so each vertex costs one m × m Cholesky
+//! factorization. Shapes that were not captured are not unknowns: they keep
+//! their generic shape `T_j` and their contribution is moved to the data side.
+
+use crate::arkit_names::BLENDSHAPE_COUNT;
+use faer::linalg::solvers::Solve;
+use faer::{Mat, Side};
+use glam::{DVec3, Vec3};
+
+/// One observed expression: tracked weights and mesh, and its importance.
+#[derive(Clone, Copy, Debug)]
+pub struct Observation<'a> {
+    /// The 52 tracked weights `w_i`.
+    pub weights: [f64; BLENDSHAPE_COUNT],
+    /// The tracked mesh `S_i`.
+    pub vertices: &'a [Vec3],
+    /// Importance `c_i` of this observation in `E_fit` (1 for a capture).
+    pub importance: f64,
+}
+
+/// A fit failed: the per-vertex system is not positive definite (possible
+/// only with λ = 0 and too few observations).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error(
+    "the fit at vertex {vertex} is singular (λ = {lambda}); too few observations for an unregularized fit"
+)]
+pub struct SingularFit {
+    /// The vertex whose system failed.
+    pub vertex: usize,
+    /// The λ used.
+    pub lambda: f64,
+}
+
+/// The assembled fit, reusable for several λ.
+pub struct BlendshapeFit<'a> {
+    generic: &'a [Vec<DVec3>],
+    /// Squared Eq. (3) weights, `d2[v * m + j]`.
+    d2: Vec<f64>,
+    /// Unknown shapes (captured), in Apple's order.
+    free: Vec<usize>,
+    /// `Wᵀ C W` over the free shapes.
+    gram: Mat<f64>,
+    /// `Wᵀ C r` over the free shapes: row = free shape, column = 3v + axis.
+    cross: Mat<f64>,
+}
+
+impl<'a> BlendshapeFit<'a> {
+    /// Assembles the fit of the shapes flagged in `free` (the others keep
+    /// their generic shape) to `observations` of a face with `neutral` `B_0`,
+    /// generic deltas `generic` (`T_j`, 52 fields) and Eq. (3) weights
+    /// `weights` (`D_j`, 52 fields).
+    pub fn new(
+        neutral: &[DVec3],
+        generic: &'a [Vec<DVec3>],
+        weights: &[Vec<f64>],
+        free: &[bool; BLENDSHAPE_COUNT],
+        observations: &[Observation<'_>],
+    ) -> BlendshapeFit<'a> {
+        let n = neutral.len();
+        let free: Vec<usize> = (0..BLENDSHAPE_COUNT).filter(|j| free[*j]).collect();
+        let fixed: Vec<usize> = (0..BLENDSHAPE_COUNT)
+            .filter(|j| !free.contains(j))
+            .collect();
+        let k = free.len();
+        let m = observations.len();
+        // W (m × k) scaled by √c_i, and residuals r_i = S_i − B_0 − Σ_fixed w_ij T_j.
+        let w = Mat::from_fn(m, k, |i, a| {
+            observations[i].importance.sqrt() * observations[i].weights[free[a]]
+        });
+        let r = Mat::from_fn(m, 3 * n, |i, c| {
+            let (v, axis) = (c / 3, c % 3);
+            let o = &observations[i];
+            let mut x = o.vertices[v].as_dvec3()[axis] - neutral[v][axis];
+            for &j in &fixed {
+                x -= o.weights[j] * generic[j][v][axis];
+            }
+            o.importance.sqrt() * x
+        });
+        let gram = w.transpose() * &w;
+        let cross = w.transpose() * &r;
+        let mut d2 = vec![0.0; n * BLENDSHAPE_COUNT];
+        for (j, dj) in weights.iter().enumerate() {
+            for (v, d) in dj.iter().enumerate() {
+                d2[v * BLENDSHAPE_COUNT + j] = d * d;
+            }
+        }
+        BlendshapeFit {
+            generic,
+            d2,
+            free,
+            gram,
+            cross,
+        }
+    }
+
+    /// Solves for regularization strength `λ` (the paper: 1). Returns the 52
+    /// personalized delta blendshapes; shapes that were not free are their
+    /// generic `T_j`.
+    pub fn solve(&self, lambda: f64) -> Result<Vec<Vec<DVec3>>, SingularFit> {
+        let n = self.cross.ncols() / 3;
+        let mut out: Vec<Vec<DVec3>> = self.generic.to_vec();
+        let free = &self.free;
+        solve_shared_gram(
+            &self.gram,
+            n,
+            3,
+            |v, a| lambda * self.d2[v * BLENDSHAPE_COUNT + free[a]],
+            |v, a, axis| self.cross[(a, 3 * v + axis)],
+            |v, a, axis| self.generic[free[a]][v][axis],
+            |v, a, axis, x| out[free[a]][v][axis] = x,
+        )
+        .map_err(|vertex| SingularFit { vertex, lambda })?;
+        Ok(out)
+    }
+}
+
+/// Solves, for every element `e` of `count` (a vertex here, a triangle in
+/// EBFR), the `k × k` ridge system with `r` right-hand sides
+///
+/// ```text
+/// (G + diag(s_e)) X_e = C_e + diag(s_e) P_e
+/// ```
+///
+/// where the Gram matrix `G` is shared and only the diagonal `s_e` (the
+/// regularization weights, `s_e[a] = diagonal(e, a)`) changes. `C_e` is
+/// `cross(e, a, c)` and the prior `P_e` is `prior(e, a, c)`; each solution
+/// entry is handed to `store(e, a, c, x)`. Fails with the element whose
+/// system is not positive definite.
+pub(crate) fn solve_shared_gram(
+    gram: &Mat<f64>,
+    count: usize,
+    r: usize,
+    diagonal: impl Fn(usize, usize) -> f64,
+    cross: impl Fn(usize, usize, usize) -> f64,
+    prior: impl Fn(usize, usize, usize) -> f64,
+    mut store: impl FnMut(usize, usize, usize, f64),
+) -> Result<(), usize> {
+    let k = gram.nrows();
+    let mut system = Mat::<f64>::zeros(k, k);
+    let mut rhs = Mat::<f64>::zeros(k, r);
+    for e in 0..count {
+        system.copy_from(gram);
+        for a in 0..k {
+            let s = diagonal(e, a);
+            system[(a, a)] += s;
+            for c in 0..r {
+                rhs[(a, c)] = cross(e, a, c) + s * prior(e, a, c);
+            }
+        }
+        let llt = system.llt(Side::Lower).map_err(|_| e)?;
+        let x = llt.solve(&rhs);
+        for a in 0..k {
+            for c in 0..r {
+                store(e, a, c, x[(a, c)]);
+            }
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn shapes(n: usize, seed: f64) -> Vec<Vec<DVec3>> {
+        (0..BLENDSHAPE_COUNT)
+            .map(|j| {
+                (0..n)
+                    .map(|v| {
+                        let x = (j * 7 + v * 3) as f64 + seed;
+                        DVec3::new(x.sin(), (1.3 * x).cos(), (0.7 * x).sin()) * 1e-3
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+
+    fn render(neutral: &[DVec3], deltas: &[Vec<DVec3>], w: &[f64; 52]) -> Vec<Vec3> {
+        (0..neutral.len())
+            .map(|v| (neutral[v] + (0..52).map(|j| w[j] * deltas[j][v]).sum::<DVec3>()).as_vec3())
+            .collect()
+    }
+
+    /// 52 captures: a dominant prompted weight plus co-activation.
+    fn capture_weights() -> Vec<[f64; 52]> {
+        (0..52)
+            .map(|i| {
+                std::array::from_fn(|j| {
+                    if i == j {
+                        0.9
+                    } else {
+                        0.03 * (((i * 31 + j * 17) % 7) as f64) / 7.0
+                    }
+                })
+            })
+            .collect()
+    }
+
+    #[test]
+    fn without_regularization_a_linear_subject_is_recovered_exactly() {
+        let n = 20;
+        let neutral: Vec<DVec3> = (0..n).map(|v| DVec3::splat(v as f64 * 0.01)).collect();
+        let truth = shapes(n, 0.0);
+        let generic = shapes(n, 1.0);
+        let d = vec![vec![1.0; n]; 52];
+        let ws = capture_weights();
+        let meshes: Vec<Vec<Vec3>> = ws.iter().map(|w| render(&neutral, &truth, w)).collect();
+        let obs: Vec<Observation> = ws
+            .iter()
+            .zip(&meshes)
+            .map(|(w, m)| Observation {
+                weights: *w,
+                vertices: m,
+                importance: 1.0,
+            })
+            .collect();
+        let fit = BlendshapeFit::new(&neutral, &generic, &d, &[true; 52], &obs);
+        let b = fit.solve(1e-12).unwrap();
+        for (bj, tj) in b.iter().zip(&truth) {
+            for (x, y) in bj.iter().zip(tj) {
+                // f32 meshes: exact up to single-precision rounding.
+                assert!((*x - *y).length() < 1e-7, "{x} vs {y}");
+            }
+        }
+        // With the regularizer, a subject whose shapes ARE the generic ones
+        // is still recovered exactly (both energy terms vanish).
+        let meshes: Vec<Vec<Vec3>> = ws.iter().map(|w| render(&neutral, &generic, w)).collect();
+        let obs: Vec<Observation> = ws
+            .iter()
+            .zip(&meshes)
+            .map(|(w, m)| Observation {
+                weights: *w,
+                vertices: m,
+                importance: 1.0,
+            })
+            .collect();
+        let b = BlendshapeFit::new(&neutral, &generic, &d, &[true; 52], &obs)
+            .solve(1.0)
+            .unwrap();
+        for (bj, tj) in b.iter().zip(&generic) {
+            for (x, y) in bj.iter().zip(tj) {
+                assert!((*x - *y).length() < 1e-7);
+            }
+        }
+    }
+
+    #[test]
+    fn strong_regularization_returns_the_generic_shapes_and_fixed_shapes_stay_generic() {
+        let n = 5;
+        let neutral = vec![DVec3::ZERO; n];
+        let truth = shapes(n, 0.0);
+        let generic = shapes(n, 2.0);
+        let ws = capture_weights();
+        let meshes: Vec<Vec<Vec3>> = ws.iter().map(|w| render(&neutral, &truth, w)).collect();
+        let obs: Vec<Observation> = ws
+            .iter()
+            .zip(&meshes)
+            .map(|(w, m)| Observation {
+                weights: *w,
+                vertices: m,
+                importance: 1.0,
+            })
+            .collect();
+        let mut free = [true; 52];
+        free[3] = false;
+        let d = vec![vec![1e5; n]; 52];
+        let b = BlendshapeFit::new(&neutral, &generic, &d, &free, &obs)
+            .solve(1.0)
+            .unwrap();
+        assert_eq!(b[3], generic[3]);
+        for (bj, tj) in b.iter().zip(&generic) {
+            for (x, y) in bj.iter().zip(tj) {
+                assert!((*x - *y).length() < 1e-9);
+            }
+        }
+    }
+}

@@ -1,0 +1,89 @@
+//! The translation of a transferred shape (see the parent module's docs,
+//! "Translation").
+//!
+//! Gradients determine a deformation up to one constant per connected
+//! component. The solve pins one vertex per component; afterwards each
+//! component is shifted by the constant `c` with
+//!
+//! ```text
+//! mean_still(D + c) = σ · mean_still(M),
+//! still = { i : ‖M_i‖ ≤ STILL_FRACTION · max_k ‖M_k‖ }  (else the i of least ‖M_i‖),
+//! ```
+//!
+//! where `M` is the source motion `S_j − S₀` and `σ` the size ratio of the
+//! target to the source.
+
+use super::{DeformationTransfer, PINNED, STILL_FRACTION};
+use glam::DVec3;
+
+/// Root of `v` in a union–find forest, with path halving.
+fn root(parent: &mut [usize], mut v: usize) -> usize {
+    while parent[v] != v {
+        parent[v] = parent[parent[v]];
+        v = parent[v];
+    }
+    v
+}
+
+/// Connected components of the triangles over `n` vertices: each vertex's
+/// component, numbered in order of their smallest vertex, and the count.
+pub(super) fn components(n: usize, triangles: &[[u32; 3]]) -> (Vec<u32>, usize) {
+    let mut parent: Vec<usize> = (0..n).collect();
+    for t in triangles {
+        for k in 1..3 {
+            let (a, b) = (
+                root(&mut parent, t[0] as usize),
+                root(&mut parent, t[k] as usize),
+            );
+            parent[a.max(b)] = a.min(b);
+        }
+    }
+    let mut id = vec![PINNED; n];
+    let mut count = 0;
+    for v in 0..n {
+        let r = root(&mut parent, v);
+        if id[r] == PINNED {
+            id[r] = count;
+            count += 1;
+        }
+        id[v] = id[r];
+    }
+    (id, count as usize)
+}
+
+impl DeformationTransfer {
+    /// Adds to each component the constant `c` with
+    /// `mean_still(delta + c) = sigma · mean_still(motion)` (module docs).
+    pub(super) fn fix_translation(&self, delta: &mut [DVec3], motion: &[DVec3], sigma: f64) {
+        let n = self.component_count;
+        let mut largest = vec![0.0_f64; n];
+        let mut least = vec![(f64::INFINITY, 0_usize); n];
+        for (v, m) in motion.iter().enumerate() {
+            let (c, len) = (self.component[v] as usize, m.length());
+            largest[c] = largest[c].max(len);
+            if len < least[c].0 {
+                least[c] = (len, v);
+            }
+        }
+        let mut sum_motion = vec![DVec3::ZERO; n];
+        let mut sum_delta = vec![DVec3::ZERO; n];
+        let mut count = vec![0_usize; n];
+        for (v, m) in motion.iter().enumerate() {
+            let c = self.component[v] as usize;
+            if m.length() <= STILL_FRACTION * largest[c] {
+                sum_motion[c] += *m;
+                sum_delta[c] += delta[v];
+                count[c] += 1;
+            }
+        }
+        let shift: Vec<DVec3> = (0..n)
+            .map(|c| match count[c] {
+                0 => sigma * motion[least[c].1] - delta[least[c].1],
+                k => (sigma * sum_motion[c] - sum_delta[c]) / k as f64,
+            })
+            .collect();
+        for (v, d) in delta.iter_mut().enumerate() {
+            *d += shift[self.component[v] as usize];
+        }
+    }
+}

@@ -112,17 +112,34 @@ pub fn evaluate_command(files: &[std::path::PathBuf], json_out: bool) -> CliResu
     if files.is_empty() {
         return Err("evaluate needs at least one session file".into());
     }
+    let names: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
+    let report = evaluation_report(&names, &|i| read_session(&files[i]))?;
+    if json_out {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+    } else {
+        print_table(&report);
+    }
+    Ok(())
+}
+
+/// Loads the `i`-th session of an evaluation.
+pub type Loader<'a> = dyn Fn(usize) -> Result<Session, Box<dyn std::error::Error>> + 'a;
+
+/// Runs every method on every session (`load(i)` for each of `names`) and
+/// builds the report that `evaluate --json` prints.
+pub fn evaluation_report(
+    names: &[String],
+    load: &Loader,
+) -> Result<Value, Box<dyn std::error::Error>> {
     let mut per_method: Vec<MethodRuns> = Method::ALL.iter().map(|m| MethodRuns::new(*m)).collect();
     let mut curve: Vec<Vec<MeanErrors>> = vec![Vec::new(); STUDY_GRID.len()];
-    let progress = crate::progress::bar("evaluating", (files.len() * Method::ALL.len()) as u64);
-    for file in files {
-        let session = read_session(file)?;
+    let progress = crate::progress::bar("evaluating", (names.len() * Method::ALL.len()) as u64);
+    for (i, name) in names.iter().enumerate() {
+        let session = load(i)?;
         if session.tests.is_empty() {
-            return Err(format!(
-                "{}: the session has no test expressions to evaluate on",
-                file.display()
-            )
-            .into());
+            return Err(
+                format!("{name}: the session has no test expressions to evaluate on").into(),
+            );
         }
         for runs in per_method.iter_mut() {
             let (result, ms) = timed(&session, runs.method)?;
@@ -199,19 +216,13 @@ pub fn evaluate_command(files: &[std::path::PathBuf], json_out: bool) -> CliResu
             })
         })
         .collect();
-    let report = json!({
-        "sessions": files.iter().map(|f| f.display().to_string()).collect::<Vec<_>>(),
+    Ok(json!({
+        "sessions": names,
         "methods": methods,
         "lambda_curve": lambda_curve,
         "ratios": ratios,
         "timings_ms": timings,
-    });
-    if json_out {
-        println!("{}", serde_json::to_string_pretty(&report)?);
-    } else {
-        print_table(&report);
-    }
-    Ok(())
+    }))
 }
 
 /// The evaluation table for a person.

@@ -123,3 +123,62 @@ fn writing_into_a_missing_folder_is_an_error() {
         stderr(&out)
     );
 }
+
+#[test]
+fn evaluate_json_has_the_documented_fields() {
+    let out = likeness(&["evaluate", &sample(), "--json"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON on stdout");
+    for method in ["dt", "ebfr", "paper", "paper-cv", "multi"] {
+        let m = &v["methods"][method];
+        for key in ["rmse_mm", "max_mm", "truth_rmse_mm"] {
+            assert!(
+                m[key].as_f64().is_some_and(|x| x > 0.0),
+                "{method}.{key}: {m}"
+            );
+        }
+        assert!(v["timings_ms"][method].as_f64().is_some_and(|t| t > 0.0));
+    }
+    assert_eq!(
+        v["methods"]["paper-cv"]["lambda"].as_array().map(Vec::len),
+        Some(1)
+    );
+    for key in [
+        "rmse_paper_over_ebfr",
+        "rmse_paper_over_dt",
+        "max_paper_over_ebfr",
+        "max_paper_over_dt",
+    ] {
+        assert!(v["ratios"][key].as_f64().is_some_and(|r| r > 0.0), "{key}");
+    }
+}
+
+#[test]
+fn personalize_writes_the_neutral_and_52_named_shapes() {
+    let dir = std::env::temp_dir().join(format!("likeness-personalize-{}", std::process::id()));
+    let out = likeness(&[
+        "personalize",
+        &sample(),
+        "--method",
+        "paper",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let files = std::fs::read_dir(&dir).unwrap().count();
+    assert_eq!(files, 53);
+    let smile = std::fs::read_to_string(dir.join("mouthSmileLeft.obj")).unwrap();
+    assert_eq!(smile.lines().filter(|l| l.starts_with("v ")).count(), 1220);
+    assert_eq!(smile.lines().filter(|l| l.starts_with("f ")).count(), 2304);
+    std::fs::remove_dir_all(&dir).unwrap();
+    let bad = likeness(&[
+        "personalize",
+        &sample(),
+        "--method",
+        "magic",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(!bad.status.success());
+    assert!(stderr(&bad).contains("unknown method"), "{}", stderr(&bad));
+}

@@ -25,8 +25,7 @@
 //! their generic shape `T_j` and their contribution is moved to the data side.
 
 use crate::arkit_names::BLENDSHAPE_COUNT;
-use faer::linalg::solvers::Solve;
-use faer::{Mat, Side};
+use faer::{Mat, Par};
 use glam::{DVec3, Vec3};
 
 /// One observed expression: tracked weights and mesh, and its importance.
@@ -122,16 +121,22 @@ impl<'a> BlendshapeFit<'a> {
         let n = self.cross.ncols() / 3;
         let mut out: Vec<Vec<DVec3>> = self.generic.to_vec();
         let free = &self.free;
-        solve_shared_gram(
+        let k = free.len();
+        let x = solve_shared_gram(
             &self.gram,
             n,
             3,
             |v, a| lambda * self.d2[v * BLENDSHAPE_COUNT + free[a]],
             |v, a, axis| self.cross[(a, 3 * v + axis)],
             |v, a, axis| self.generic[free[a]][v][axis],
-            |v, a, axis, x| out[free[a]][v][axis] = x,
         )
         .map_err(|vertex| SingularFit { vertex, lambda })?;
+        for v in 0..n {
+            for (a, &j) in free.iter().enumerate() {
+                let b = &x[(v * k + a) * 3..(v * k + a) * 3 + 3];
+                out[j][v] = DVec3::new(b[0], b[1], b[2]);
+            }
+        }
         Ok(out)
     }
 }
@@ -145,39 +150,78 @@ impl<'a> BlendshapeFit<'a> {
 ///
 /// where the Gram matrix `G` is shared and only the diagonal `s_e` (the
 /// regularization weights, `s_e[a] = diagonal(e, a)`) changes. `C_e` is
-/// `cross(e, a, c)` and the prior `P_e` is `prior(e, a, c)`; each solution
-/// entry is handed to `store(e, a, c, x)`. Fails with the element whose
-/// system is not positive definite.
+/// `cross(e, a, c)` and the prior `P_e` is `prior(e, a, c)`. Returns the
+/// solutions, entry `(e, a, c)` at `(e·k + a)·r + c`, or the first element
+/// whose system is not positive definite. The elements are independent, so
+/// they are split over the machine's cores; each factorization is faer's
+/// in-place Cholesky, with no allocation per element.
 pub(crate) fn solve_shared_gram(
     gram: &Mat<f64>,
     count: usize,
     r: usize,
-    diagonal: impl Fn(usize, usize) -> f64,
-    cross: impl Fn(usize, usize, usize) -> f64,
-    prior: impl Fn(usize, usize, usize) -> f64,
-    mut store: impl FnMut(usize, usize, usize, f64),
-) -> Result<(), usize> {
+    diagonal: impl Fn(usize, usize) -> f64 + Sync,
+    cross: impl Fn(usize, usize, usize) -> f64 + Sync,
+    prior: impl Fn(usize, usize, usize) -> f64 + Sync,
+) -> Result<Vec<f64>, usize> {
+    use faer::dyn_stack::{MemBuffer, MemStack};
+    use faer::linalg::cholesky::llt;
     let k = gram.nrows();
-    let mut system = Mat::<f64>::zeros(k, k);
-    let mut rhs = Mat::<f64>::zeros(k, r);
-    for e in 0..count {
-        system.copy_from(gram);
-        for a in 0..k {
-            let s = diagonal(e, a);
-            system[(a, a)] += s;
-            for c in 0..r {
-                rhs[(a, c)] = cross(e, a, c) + s * prior(e, a, c);
+    let solve_range = |range: std::ops::Range<usize>| -> Result<Vec<f64>, usize> {
+        let mut out = Vec::with_capacity(range.len() * k * r);
+        let mut system = Mat::<f64>::zeros(k, k);
+        let mut rhs = Mat::<f64>::zeros(k, r);
+        let scratch =
+            llt::factor::cholesky_in_place_scratch::<f64>(k, Par::Seq, Default::default());
+        let mut buffer = MemBuffer::new(scratch);
+        let stack = MemStack::new(&mut buffer);
+        for e in range {
+            system.copy_from(gram);
+            for a in 0..k {
+                let s = diagonal(e, a);
+                system[(a, a)] += s;
+                for c in 0..r {
+                    rhs[(a, c)] = cross(e, a, c) + s * prior(e, a, c);
+                }
+            }
+            llt::factor::cholesky_in_place(
+                system.as_mut(),
+                Default::default(),
+                Par::Seq,
+                stack,
+                Default::default(),
+            )
+            .map_err(|_| e)?;
+            llt::solve::solve_in_place(system.as_ref(), rhs.as_mut(), Par::Seq, stack);
+            for a in 0..k {
+                for c in 0..r {
+                    out.push(rhs[(a, c)]);
+                }
             }
         }
-        let llt = system.llt(Side::Lower).map_err(|_| e)?;
-        let x = llt.solve(&rhs);
-        for a in 0..k {
-            for c in 0..r {
-                store(e, a, c, x[(a, c)]);
-            }
-        }
+        Ok(out)
+    };
+    let threads = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .clamp(1, 8)
+        .min(count.max(1));
+    let chunk = count.div_ceil(threads);
+    let parts: Vec<Result<Vec<f64>, usize>> = std::thread::scope(|scope| {
+        let handles: Vec<_> = (0..threads)
+            .map(|t| {
+                let range = (t * chunk).min(count)..((t + 1) * chunk).min(count);
+                scope.spawn(move || solve_range(range))
+            })
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| h.join().unwrap_or(Err(0)))
+            .collect()
+    });
+    let mut out = Vec::with_capacity(count * k * r);
+    for part in parts {
+        out.extend(part?);
     }
-    Ok(())
+    Ok(out)
 }
 
 #[cfg(test)]

@@ -336,7 +336,7 @@ impl DeformationTransfer {
     /// describe. The source meshes must have the target's vertex count and
     /// finite positions, and no source rest triangle may be degenerate;
     /// deformed triangles may collapse.
-    pub fn transfer_many<S: AsRef<[DVec3]>>(
+    pub fn transfer_many<S: AsRef<[DVec3]> + Sync>(
         &self,
         source_rest: &[DVec3],
         source_shapes: &[S],
@@ -359,15 +359,57 @@ impl DeformationTransfer {
             })?);
         }
 
+        let sigma = (self.target_area / source_area).sqrt();
+        // The shapes are independent: split them over the machine's cores.
+        let threads = std::thread::available_parallelism()
+            .map_or(1, |n| n.get())
+            .clamp(1, 8)
+            .min(source_shapes.len().max(1));
+        let chunk = source_shapes.len().div_ceil(threads).max(1);
+        let parts: Vec<Result<Vec<Vec<DVec3>>, TransferError>> = std::thread::scope(|scope| {
+            let handles: Vec<_> = source_shapes
+                .chunks(chunk)
+                .map(|shapes| {
+                    let frames = &frames;
+                    scope.spawn(move || self.transfer_chunk(frames, source_rest, shapes, sigma))
+                })
+                .collect();
+            handles
+                .into_iter()
+                .map(|h| {
+                    h.join().unwrap_or_else(|_| {
+                        Err(TransferError::Factorization(
+                            "a solver thread panicked".into(),
+                        ))
+                    })
+                })
+                .collect()
+        });
+        let mut deltas = Vec::with_capacity(source_shapes.len());
+        for part in parts {
+            deltas.extend(part?);
+        }
+        Ok(deltas)
+    }
+
+    /// [`DeformationTransfer::transfer_many`] for one batch of shapes, with
+    /// the source rest frames and the size ratio `sigma` already computed.
+    fn transfer_chunk<S: AsRef<[DVec3]>>(
+        &self,
+        frames: &[RestFrame],
+        source_rest: &[DVec3],
+        source_shapes: &[S],
+        sigma: f64,
+    ) -> Result<Vec<Vec<DVec3>>, TransferError> {
+        let n = self.vertex_count();
         let mut rhs = Mat::<f64>::zeros(self.unknown_count, 3 * source_shapes.len());
         for (j, shape) in source_shapes.iter().enumerate() {
             let shape = shape.as_ref();
-            for (t, (tri, frame)) in self.triangles.iter().zip(&frames).enumerate() {
+            for (t, (tri, frame)) in self.triangles.iter().zip(frames).enumerate() {
                 let dq = frame.displacement_gradient(tri.map(|v| shape[v as usize]));
                 self.add_to_rhs(&mut rhs, j, t, dq);
             }
         }
-        let sigma = (self.target_area / source_area).sqrt();
         let mut deltas = self.solve(rhs);
         let mut motion = vec![DVec3::ZERO; n];
         for (delta, shape) in deltas.iter_mut().zip(source_shapes) {

@@ -130,19 +130,25 @@ pub fn ebfr_blendshapes(
     let mut gradients: Vec<Vec<DMat3>> = (0..BLENDSHAPE_COUNT)
         .map(|j| prior[j * nt..(j + 1) * nt].to_vec())
         .collect();
-    solve_shared_gram(
+    let k = free_shapes.len();
+    let x = solve_shared_gram(
         &gram,
         nt,
         9,
         |t, a| BETA * omega[free_shapes[a] * nt + t],
         |t, a, c| cross[(a, 9 * t + c)],
         |t, a, c| entries(prior[free_shapes[a] * nt + t])[c],
-        |t, a, c, x| gradients[free_shapes[a]][t].col_mut(c / 3)[c % 3] = x,
     )
     .map_err(|triangle| crate::blendshape_fit::SingularFit {
         vertex: triangle,
         lambda: BETA,
     })?;
+    for t in 0..nt {
+        for (a, &j) in free_shapes.iter().enumerate() {
+            let e = &x[(t * k + a) * 9..(t * k + a) * 9 + 9];
+            gradients[j][t] = DMat3::from_cols_slice(e);
+        }
+    }
     let mut deltas = generic
         .transfer
         .solve_displacement_gradients(&gradients, &generic.deltas);

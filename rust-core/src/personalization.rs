@@ -131,9 +131,11 @@ pub struct GenericBlendshapes {
     pub transfer: DeformationTransfer,
 }
 
-/// Validates the session and transfers the template onto its neutral scan.
+/// Validates what personalization reads of the session (everything but
+/// the stream; the stream frames a method uses are checked where they are
+/// chosen) and transfers the template onto its neutral scan.
 pub fn generic_blendshapes(session: &Session) -> Result<GenericBlendshapes, PersonalizeError> {
-    session.validate()?;
+    session.validate_expressions()?;
     let virtual_triangles = eye_hole_triangles(&session.topology, &session.template.neutral)?;
     let neutral: Vec<DVec3> = session.neutral.iter().map(|p| p.as_dvec3()).collect();
     let transfer = DeformationTransfer::new(&session.topology, &virtual_triangles, &neutral)?;
@@ -170,6 +172,9 @@ pub fn personalize(session: &Session, method: Method) -> Result<Personalized, Pe
     }
     if session.captures.is_empty() {
         return Err(PersonalizeError::NoCaptures);
+    }
+    if matches!(method, Method::PaperCv | Method::Multi) {
+        check_stream_frames(session)?;
     }
     if method == Method::Ebfr {
         let deltas = crate::ebfr::ebfr_blendshapes(session, &generic, &free)?;
@@ -242,6 +247,7 @@ pub fn lambda_sweep(
     grid: &[f64],
 ) -> Result<(Vec<DVec3>, Sweep), PersonalizeError> {
     let generic = generic_blendshapes(session)?;
+    check_stream_frames(session)?;
     let free = captured(session);
     let weights: Vec<Vec<f64>> = generic
         .deltas
@@ -270,4 +276,18 @@ fn captured(session: &Session) -> [bool; BLENDSHAPE_COUNT] {
         free[c.prompt.index()] = true;
     }
     free
+}
+
+/// Checks the stream frames that `paper-cv` and `multi` read.
+fn check_stream_frames(session: &Session) -> Result<(), SessionError> {
+    let fit = crate::frame_selection::fit_frames(session)
+        .into_iter()
+        .map(|(_, f)| f);
+    for f in crate::frame_selection::validation_frames(session)
+        .into_iter()
+        .chain(fit)
+    {
+        session.validate_frame(f)?;
+    }
+    Ok(())
 }

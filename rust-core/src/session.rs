@@ -190,6 +190,43 @@ impl Session {
     /// topology and is finite, weights are finite, time runs forward, frame
     /// references exist, and each prompt is captured at most once.
     pub fn validate(&self) -> Result<(), SessionError> {
+        self.validate_expressions()?;
+        let mut previous = f64::NEG_INFINITY;
+        for (i, frame) in self.frames.iter().enumerate() {
+            if !frame.timestamp.is_finite() || frame.timestamp < previous {
+                return Err(SessionError::Timestamp {
+                    frame: i,
+                    timestamp: frame.timestamp,
+                });
+            }
+            previous = frame.timestamp;
+            self.validate_frame(i)?;
+        }
+        Ok(())
+    }
+
+    /// Checks frame `i`'s weights and mesh (not its timestamp): what a method
+    /// that uses a few stream frames needs.
+    pub fn validate_frame(&self, i: usize) -> Result<(), SessionError> {
+        let Some(frame) = self.frames.get(i) else {
+            return Err(SessionError::FrameIndex {
+                what: "stream".to_string(),
+                frame: i as u32,
+                frames: self.frames.len(),
+            });
+        };
+        check_weights(&format!("frame {i}"), &frame.weights)?;
+        if let Some(v) = &frame.vertices {
+            self.topology.check_positions(&format!("frame {i}"), v)?;
+        }
+        Ok(())
+    }
+
+    /// Checks everything but the stream: frame rate, template, neutral scan,
+    /// captures, test expressions and ground truth. Personalization calls
+    /// this (and [`Session::validate_frame`] for the frames it uses) instead
+    /// of [`Session::validate`], which also walks every streamed mesh.
+    pub fn validate_expressions(&self) -> Result<(), SessionError> {
         let topo = &self.topology;
         if !(self.frame_rate.is_finite() && self.frame_rate > 0.0) {
             return Err(SessionError::FrameRate(self.frame_rate));
@@ -202,20 +239,6 @@ impl Session {
             topo.check_positions(&format!("template {shape}"), mesh)?;
         }
         topo.check_positions("neutral", &self.neutral)?;
-        let mut previous = f64::NEG_INFINITY;
-        for (i, frame) in self.frames.iter().enumerate() {
-            if !frame.timestamp.is_finite() || frame.timestamp < previous {
-                return Err(SessionError::Timestamp {
-                    frame: i,
-                    timestamp: frame.timestamp,
-                });
-            }
-            previous = frame.timestamp;
-            check_weights(&format!("frame {i}"), &frame.weights)?;
-            if let Some(v) = &frame.vertices {
-                topo.check_positions(&format!("frame {i}"), v)?;
-            }
-        }
         let mut seen = [false; BLENDSHAPE_COUNT];
         for capture in &self.captures {
             let what = format!("capture {}", capture.prompt);

@@ -48,7 +48,7 @@ enum Command {
         /// The session file.
         file: PathBuf,
         /// dt, ebfr, paper, paper-cv or multi.
-        #[arg(long, default_value = "paper-cv")]
+        #[arg(long, default_value_t = likeness::personalization::Method::DEFAULT)]
         method: likeness::personalization::Method,
         /// Folder for the OBJ files (created if missing).
         #[arg(long)]

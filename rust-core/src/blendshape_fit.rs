@@ -262,6 +262,17 @@ mod tests {
             .collect()
     }
 
+    fn captures<'a>(ws: &[[f64; 52]], meshes: &'a [Vec<Vec3>]) -> Vec<Observation<'a>> {
+        ws.iter()
+            .zip(meshes)
+            .map(|(w, m)| Observation {
+                weights: *w,
+                vertices: m,
+                importance: 1.0,
+            })
+            .collect()
+    }
+
     #[test]
     fn without_regularization_a_linear_subject_is_recovered_exactly() {
         let n = 20;
@@ -271,15 +282,7 @@ mod tests {
         let d = vec![vec![1.0; n]; 52];
         let ws = capture_weights();
         let meshes: Vec<Vec<Vec3>> = ws.iter().map(|w| render(&neutral, &truth, w)).collect();
-        let obs: Vec<Observation> = ws
-            .iter()
-            .zip(&meshes)
-            .map(|(w, m)| Observation {
-                weights: *w,
-                vertices: m,
-                importance: 1.0,
-            })
-            .collect();
+        let obs = captures(&ws, &meshes);
         let fit = BlendshapeFit::new(&neutral, &generic, &d, &[true; 52], &obs);
         let b = fit.solve(1e-12).unwrap();
         for (bj, tj) in b.iter().zip(&truth) {
@@ -291,15 +294,7 @@ mod tests {
         // With the regularizer, a subject whose shapes ARE the generic ones
         // is still recovered exactly (both energy terms vanish).
         let meshes: Vec<Vec<Vec3>> = ws.iter().map(|w| render(&neutral, &generic, w)).collect();
-        let obs: Vec<Observation> = ws
-            .iter()
-            .zip(&meshes)
-            .map(|(w, m)| Observation {
-                weights: *w,
-                vertices: m,
-                importance: 1.0,
-            })
-            .collect();
+        let obs = captures(&ws, &meshes);
         let b = BlendshapeFit::new(&neutral, &generic, &d, &[true; 52], &obs)
             .solve(1.0)
             .unwrap();
@@ -318,15 +313,7 @@ mod tests {
         let generic = shapes(n, 2.0);
         let ws = capture_weights();
         let meshes: Vec<Vec<Vec3>> = ws.iter().map(|w| render(&neutral, &truth, w)).collect();
-        let obs: Vec<Observation> = ws
-            .iter()
-            .zip(&meshes)
-            .map(|(w, m)| Observation {
-                weights: *w,
-                vertices: m,
-                importance: 1.0,
-            })
-            .collect();
+        let obs = captures(&ws, &meshes);
         let mut free = [true; 52];
         free[3] = false;
         let d = vec![vec![1e5; n]; 52];

@@ -186,19 +186,7 @@ pub fn personalize(session: &Session, method: Method) -> Result<Personalized, Pe
         let deltas = crate::ebfr::ebfr_blendshapes(session, &generic, &free)?;
         return Ok(finish(deltas, None, Vec::new()));
     }
-    let weights: Vec<Vec<f64>> = generic
-        .deltas
-        .iter()
-        .map(|t| regularization_weights(t))
-        .collect();
-    let observations = observations(session, method == Method::Multi);
-    let fit = BlendshapeFit::new(
-        &generic.neutral,
-        &generic.deltas,
-        &weights,
-        &free,
-        &observations,
-    );
+    let fit = assemble_fit(session, &generic, method == Method::Multi);
     match method {
         Method::Paper => Ok(finish(fit.solve(1.0)?, Some(1.0), Vec::new())),
         _ => {
@@ -254,20 +242,7 @@ pub fn lambda_sweep(
 ) -> Result<(Vec<DVec3>, Sweep), PersonalizeError> {
     let generic = generic_blendshapes(session)?;
     check_stream_frames(session)?;
-    let free = captured(session);
-    let weights: Vec<Vec<f64>> = generic
-        .deltas
-        .iter()
-        .map(|t| regularization_weights(t))
-        .collect();
-    let observations = observations(session, multi);
-    let fit = BlendshapeFit::new(
-        &generic.neutral,
-        &generic.deltas,
-        &weights,
-        &free,
-        &observations,
-    );
+    let fit = assemble_fit(session, &generic, multi);
     let mut out = Vec::with_capacity(grid.len());
     for &lambda in grid {
         out.push((lambda, fit.solve(lambda)?));
@@ -296,4 +271,27 @@ fn check_stream_frames(session: &Session) -> Result<(), SessionError> {
         session.validate_frame(f)?;
     }
     Ok(())
+}
+
+/// Eq. (1)–(3) assembled for the session: the Eq. (3) weights of the generic
+/// blendshapes, the captures (and for `multi` the frames around them) as
+/// observations, the captured shapes free.
+fn assemble_fit<'g>(
+    session: &Session,
+    generic: &'g GenericBlendshapes,
+    multi: bool,
+) -> BlendshapeFit<'g> {
+    let weights: Vec<Vec<f64>> = generic
+        .deltas
+        .iter()
+        .map(|t| regularization_weights(t))
+        .collect();
+    let observations = observations(session, multi);
+    BlendshapeFit::new(
+        &generic.neutral,
+        &generic.deltas,
+        &weights,
+        &captured(session),
+        &observations,
+    )
 }

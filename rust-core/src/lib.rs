@@ -21,6 +21,7 @@ pub mod frame_selection;
 pub mod lambda_selection;
 pub mod mesh_boundary;
 pub mod obj_export;
+pub mod peak_detector;
 pub mod personalization;
 pub mod prompt_order;
 pub mod regularization_weights;

@@ -4,6 +4,7 @@
 //! Errors go to stderr with a non-zero exit status and never as a panic.
 
 mod info;
+mod interchange;
 mod personalize;
 mod progress;
 mod simulate;
@@ -64,6 +65,23 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Build a session file from a folder of OBJ meshes and CSV weights
+    /// (layout in the README).
+    Import {
+        /// The folder.
+        dir: PathBuf,
+        /// The session file to write.
+        #[arg(long)]
+        out: PathBuf,
+    },
+    /// Write a session as a folder of OBJ meshes and CSV weights.
+    Export {
+        /// The session file.
+        file: PathBuf,
+        /// The folder to write (created if missing).
+        #[arg(long)]
+        out: PathBuf,
+    },
     /// Print a summary of a session file.
     Info {
         /// The session file.
@@ -91,6 +109,8 @@ fn main() -> ExitCode {
             personalize::personalize_command(&file, method, &out)
         }
         Command::Evaluate { files, json } => personalize::evaluate_command(&files, json),
+        Command::Import { dir, out } => interchange::import_command(&dir, &out),
+        Command::Export { file, out } => interchange::export_command(&file, &out),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -18,6 +18,7 @@ pub mod deformation_transfer;
 pub mod ebfr;
 pub mod evaluation;
 pub mod frame_selection;
+pub mod interchange;
 pub mod lambda_selection;
 pub mod mesh_boundary;
 pub mod obj_export;

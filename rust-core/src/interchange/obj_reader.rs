@@ -140,7 +140,11 @@ mod tests {
             ("v 0 0\n", 1, "2 coordinates"),
             ("v 0 0 0\nv 1 0 0\nf 1 2 3\n", 3, "vertex 3"),
             ("v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2\n", 4, "2 corners"),
-            ("v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 a 3\n", 4, "not a vertex index"),
+            (
+                "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 a 3\n",
+                4,
+                "not a vertex index",
+            ),
         ];
         for (text, line, what) in cases {
             let err = parse_obj(Path::new("dir/m.obj"), text).unwrap_err();

@@ -1,0 +1,115 @@
+//! `frames.csv`: the weight stream, as a Live Link Face export or as
+//! `timestamp,<52 names>`.
+
+use super::*;
+use crate::session::Frame;
+
+/// Reads `frames.csv` (plain or Live Link Face).
+pub(super) fn read_frames(path: &Path) -> Result<Vec<Frame>, InterchangeError> {
+    let table = read_weight_table(path, &["timestamp", "timecode"])?;
+    let live_link = table.key_name.eq_ignore_ascii_case("timecode");
+    let key_error = |row: &weights_csv::WeightRow, message: String| InterchangeError::Key {
+        path: path.to_path_buf(),
+        line: row.line,
+        column: row.key_column,
+        message,
+    };
+    let mut times = Vec::with_capacity(table.rows.len());
+    if live_link {
+        let mut parsed = Vec::with_capacity(table.rows.len());
+        for row in &table.rows {
+            parsed.push(parse_timecode(&row.key).ok_or_else(|| {
+                key_error(
+                    row,
+                    format!("{:?} is not a timecode HH:MM:SS:FF[.fff]", row.key),
+                )
+            })?);
+        }
+        let max_frame = parsed.iter().map(|t| t.1).fold(0.0, f64::max);
+        let rate = [24.0, 25.0, 30.0, 48.0, 50.0, 60.0, 120.0]
+            .into_iter()
+            .find(|r| max_frame < *r)
+            .unwrap_or(max_frame.floor() + 1.0);
+        let start = parsed.first().map(|t| t.0 + t.1 / rate).unwrap_or(0.0);
+        times.extend(parsed.iter().map(|t| t.0 + t.1 / rate - start));
+    } else {
+        for row in &table.rows {
+            let t = row
+                .key
+                .parse::<f64>()
+                .ok()
+                .filter(|t| t.is_finite())
+                .ok_or_else(|| {
+                    key_error(
+                        row,
+                        format!("timestamp {:?} is not a finite number", row.key),
+                    )
+                })?;
+            times.push(t);
+        }
+    }
+    let mut frames = Vec::with_capacity(times.len());
+    for (k, (row, t)) in table.rows.iter().zip(times).enumerate() {
+        if k > 0 && t < frames.last().map(|f: &Frame| f.timestamp).unwrap_or(t) {
+            return Err(key_error(
+                row,
+                format!("time {t} s is earlier than the row before"),
+            ));
+        }
+        frames.push(Frame {
+            timestamp: t,
+            weights: row.weights,
+            tracked: true,
+            vertices: None,
+        });
+    }
+    Ok(frames)
+}
+
+/// `HH:MM:SS:FF[.fff]` → (whole seconds, frames including the fraction).
+pub(super) fn parse_timecode(text: &str) -> Option<(f64, f64)> {
+    let parts: Vec<&str> = text.split(':').collect();
+    let [h, m, s, f] = parts.as_slice() else {
+        return None;
+    };
+    let int = |x: &str| -> Option<f64> {
+        (!x.is_empty() && x.bytes().all(|b| b.is_ascii_digit())).then(|| x.parse().ok())?
+    };
+    let (h, m, s) = (int(h)?, int(m)?, int(s)?);
+    if m >= 60.0 || s >= 61.0 {
+        return None;
+    }
+    let (whole, fraction) = f.split_once('.').unwrap_or((f, ""));
+    let frames = int(whole)?
+        + if fraction.is_empty() {
+            0.0
+        } else {
+            int(fraction)? / 10f64.powi(fraction.len() as i32)
+        };
+    Some((h * 3600.0 + m * 60.0 + s, frames))
+}
+
+/// One over the median spacing of the timestamps, or [`DEFAULT_FRAME_RATE`].
+pub(super) fn frame_rate(frames: &[Frame]) -> f32 {
+    let mut spacing: Vec<f64> = frames
+        .windows(2)
+        .map(|w| w[1].timestamp - w[0].timestamp)
+        .filter(|d| *d > 0.0)
+        .collect();
+    if spacing.is_empty() {
+        return DEFAULT_FRAME_RATE;
+    }
+    spacing.sort_by(f64::total_cmp);
+    let n = spacing.len();
+    let median = if n % 2 == 1 {
+        spacing[n / 2]
+    } else {
+        0.5 * (spacing[n / 2 - 1] + spacing[n / 2])
+    };
+    let rate = (1.0 / median) as f32;
+    if rate.is_finite() && rate > 0.0 {
+        rate
+    } else {
+        DEFAULT_FRAME_RATE
+    }
+}

@@ -2,7 +2,7 @@
 
 use super::*;
 
-/// Writes `session` as an interchange folder (see the [module docs](self)),
+/// Writes `session` as an interchange folder (see the [module docs](crate::interchange)),
 /// creating `dir` and its subfolders if needed. Every file is written
 /// atomically. `frames.csv` is written only if the session has frames, and
 /// `test/` only if it has test expressions.

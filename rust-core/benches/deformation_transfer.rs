@@ -19,55 +19,21 @@ use likeness::{BLENDSHAPE_COUNT, Template, Topology};
 use std::hint::black_box;
 use std::time::Duration;
 
+#[path = "../tests/fixtures/face_grid.rs"]
+mod face_grid;
+use face_grid::Hole;
+
 const NX: usize = 37;
 const NY: usize = 34;
 const CELL: f32 = 0.004;
-type Hole = (usize, usize, usize, usize);
 const EYES: [Hole; 2] = [(22, 28, 22, 24), (8, 14, 22, 24)];
 const MOUTH: Hole = (13, 22, 8, 9);
 
-/// The grid without the hole cells, counter-clockwise seen from +z, unused
-/// vertices dropped; the middle vertex on each short side of an eye is
-/// pushed out so that the eye's corners are unique in x.
+/// The shared fixture's face grid at this size.
 fn mesh() -> (Topology, Vec<Vec3>) {
-    let holes = [EYES[0], EYES[1], MOUTH];
-    let in_hole = |i: usize, j: usize| {
-        holes
-            .iter()
-            .any(|&(i0, i1, j0, j1)| (i0..i1).contains(&i) && (j0..j1).contains(&j))
-    };
-    let id = |i: usize, j: usize| j * NX + i;
-    let mut tris = Vec::new();
-    for j in 0..NY - 1 {
-        for i in 0..NX - 1 {
-            if !in_hole(i, j) {
-                let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
-                tris.push([a, b, c]);
-                tris.push([a, c, d]);
-            }
-        }
-    }
-    let mut index = vec![u32::MAX; NX * NY];
-    let mut positions = Vec::new();
-    for tri in &tris {
-        for &v in tri {
-            if index[v] == u32::MAX {
-                index[v] = positions.len() as u32;
-                let (i, j) = (v % NX, v / NX);
-                let mut x = (i as f32 - (NX - 1) as f32 / 2.0) * CELL;
-                let y = (j as f32 - (NY - 1) as f32 / 2.0) * CELL;
-                for (i0, i1, j0, j1) in EYES {
-                    if j == (j0 + j1) / 2 && (i == i0 || i == i1) {
-                        x += if i == i0 { -0.3 } else { 0.3 } * CELL;
-                    }
-                }
-                positions.push(Vec3::new(x, y, 0.05 - 4.0 * (x * x + 0.5 * y * y)));
-            }
-        }
-    }
-    let tris = tris.iter().map(|t| t.map(|v| index[v])).collect();
-    let topology = Topology::new(positions.len(), tris).expect("valid grid");
-    (topology, positions)
+    let grid = face_grid::face_grid(NX, NY, CELL, 4.0, EYES, MOUTH);
+    let topology = Topology::new(grid.positions.len(), grid.triangles).expect("valid grid");
+    (topology, grid.positions)
 }
 
 /// 52 shapes: smooth bumps spread over the face; 0 and 7 close an eye.

@@ -318,67 +318,21 @@ fn fill_eye(
     })
 }
 
-/// Small synthetic face masks for tests in this crate.
+#[cfg(test)]
+#[path = "../tests/fixtures/face_grid.rs"]
+mod face_grid_fixture;
+
+/// Small synthetic face masks for tests in this crate (see the shared
+/// fixture `tests/fixtures/face_grid.rs`).
 #[cfg(test)]
 pub(crate) mod test_meshes {
+    pub(crate) use super::face_grid_fixture::Hole;
+    use super::face_grid_fixture::{self as fixture, Grid};
     use crate::topology::Topology;
     use glam::Vec3;
 
-    /// A rectangular hole of grid cells `i0..i1 × j0..j1`.
-    pub(crate) type Hole = (usize, usize, usize, usize);
-
     /// Cell size of [`grid_with_holes`] (m).
     pub(crate) const CELL: f32 = 0.01;
-
-    /// An `nx × ny` vertex grid in the x–y plane, gently curved towards +z,
-    /// triangulated counter-clockwise seen from +z, without the cells in
-    /// `holes`; unused vertices are dropped. Vertex `(i, j)` sits at
-    /// `(i − (nx−1)/2, j − (ny−1)/2) · CELL`, moved by `shift(i, j)`. Returns the
-    /// topology, positions and the new index of each grid vertex.
-    pub(crate) fn grid_with_holes(
-        nx: usize,
-        ny: usize,
-        holes: &[Hole],
-        shift: impl Fn(usize, usize) -> Vec3,
-    ) -> (Topology, Vec<Vec3>, Vec<Option<u32>>) {
-        let in_hole = |i: usize, j: usize| {
-            holes
-                .iter()
-                .any(|&(i0, i1, j0, j1)| (i0..i1).contains(&i) && (j0..j1).contains(&j))
-        };
-        let id = |i: usize, j: usize| j * nx + i;
-        let mut tris = Vec::new();
-        for j in 0..ny - 1 {
-            for i in 0..nx - 1 {
-                if !in_hole(i, j) {
-                    let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
-                    tris.push([a, b, c]);
-                    tris.push([a, c, d]);
-                }
-            }
-        }
-        let mut new_index = vec![None; nx * ny];
-        let mut positions = Vec::new();
-        for tri in &tris {
-            for &v in tri {
-                if new_index[v].is_none() {
-                    new_index[v] = Some(positions.len() as u32);
-                    let (i, j) = (v % nx, v / nx);
-                    let x = (i as f32 - (nx - 1) as f32 / 2.0) * CELL;
-                    let y = (j as f32 - (ny - 1) as f32 / 2.0) * CELL;
-                    let z = 0.05 - 2.0 * (x * x + 0.5 * y * y);
-                    positions.push(Vec3::new(x, y, z) + shift(i, j));
-                }
-            }
-        }
-        let tris = tris
-            .iter()
-            .map(|t| t.map(|v| new_index[v].expect("used vertex")))
-            .collect();
-        let topology = Topology::new(positions.len(), tris).expect("valid grid");
-        (topology, positions, new_index)
-    }
-
     /// Grid size of [`face_grid`].
     pub(crate) const FACE_NX: usize = 22;
     /// Grid size of [`face_grid`].
@@ -388,22 +342,24 @@ pub(crate) mod test_meshes {
     /// Mouth slit of [`face_grid`]: 9 × 1 cells.
     pub(crate) const MOUTH: Hole = (6, 15, 4, 5);
 
-    /// A face-like grid: outline, two eye holes and a mouth slit. The middle
-    /// vertex on each short side of an eye is pushed outwards by 0.3 cells so
-    /// that each eye has one corner at its smallest and one at its largest x.
+    fn checked(grid: Grid) -> (Topology, Vec<Vec3>, Vec<Option<u32>>) {
+        let topology = Topology::new(grid.positions.len(), grid.triangles).expect("valid grid");
+        (topology, grid.positions, grid.index)
+    }
+
+    /// The fixture's grid with [`CELL`] spacing and gentle bend.
+    pub(crate) fn grid_with_holes(
+        nx: usize,
+        ny: usize,
+        holes: &[Hole],
+        shift: impl Fn(usize, usize) -> Vec3,
+    ) -> (Topology, Vec<Vec3>, Vec<Option<u32>>) {
+        checked(fixture::grid_with_holes(nx, ny, CELL, 2.0, holes, shift))
+    }
+
+    /// A face-like grid: outline, two eye holes and a mouth slit.
     pub(crate) fn face_grid() -> (Topology, Vec<Vec3>, Vec<Option<u32>>) {
-        grid_with_holes(FACE_NX, FACE_NY, &[EYES[0], EYES[1], MOUTH], |i, j| {
-            let mut dx = 0.0;
-            for (i0, i1, j0, j1) in EYES {
-                if j == (j0 + j1) / 2 && i == i0 {
-                    dx = -0.3 * CELL;
-                }
-                if j == (j0 + j1) / 2 && i == i1 {
-                    dx = 0.3 * CELL;
-                }
-            }
-            Vec3::new(dx, 0.0, 0.0)
-        })
+        checked(fixture::face_grid(FACE_NX, FACE_NY, CELL, 2.0, EYES, MOUTH))
     }
 }
 

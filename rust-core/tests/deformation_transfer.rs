@@ -7,6 +7,9 @@ use likeness::deformation_transfer::{DeformationTransfer, TransferError};
 use likeness::mesh_boundary::{EyeHole, eye_holes};
 use likeness::{GeometryError, Template, Topology, TopologyError};
 
+#[path = "fixtures/face_grid.rs"]
+mod face_grid;
+
 /// Grid size (vertices) and cell size (m).
 const NX: usize = 22;
 const NY: usize = 17;
@@ -24,50 +27,12 @@ struct Face {
     index: Vec<Option<u32>>,
 }
 
-/// The synthetic face. The middle vertex on each short side of an eye is
-/// pushed out by 0.3 cells, so each eye has one corner at its smallest and
-/// one at its largest x.
+/// The synthetic face of the shared fixture.
 fn face() -> Face {
-    let holes = [EYES[0], EYES[1], MOUTH];
-    let in_hole = |i: usize, j: usize| {
-        holes
-            .iter()
-            .any(|&(i0, i1, j0, j1)| (i0..i1).contains(&i) && (j0..j1).contains(&j))
-    };
-    let id = |i: usize, j: usize| j * NX + i;
-    let mut tris = Vec::new();
-    for j in 0..NY - 1 {
-        for i in 0..NX - 1 {
-            if !in_hole(i, j) {
-                let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
-                tris.push([a, b, c]);
-                tris.push([a, c, d]);
-            }
-        }
-    }
-    let mut index = vec![None; NX * NY];
-    let mut rest = Vec::new();
-    for tri in &tris {
-        for &v in tri {
-            if index[v].is_none() {
-                index[v] = Some(rest.len() as u32);
-                let (i, j) = (v % NX, v / NX);
-                let mut x = (i as f64 - (NX - 1) as f64 / 2.0) * CELL;
-                let y = (j as f64 - (NY - 1) as f64 / 2.0) * CELL;
-                for (i0, i1, j0, j1) in EYES {
-                    if j == (j0 + j1) / 2 && (i == i0 || i == i1) {
-                        x += if i == i0 { -0.3 } else { 0.3 } * CELL;
-                    }
-                }
-                rest.push(DVec3::new(x, y, 0.05 - 2.0 * (x * x + 0.5 * y * y)));
-            }
-        }
-    }
-    let tris = tris
-        .iter()
-        .map(|t| t.map(|v| index[v].expect("used")))
-        .collect();
-    let topology = Topology::new(rest.len(), tris).unwrap();
+    let grid = face_grid::face_grid(NX, NY, CELL as f32, 2.0, EYES, MOUTH);
+    let rest: Vec<DVec3> = grid.positions.iter().map(|p| p.as_dvec3()).collect();
+    let index = grid.index;
+    let topology = Topology::new(rest.len(), grid.triangles).unwrap();
     let rest_f32: Vec<Vec3> = rest.iter().map(|p| p.as_vec3()).collect();
     let eyes = eye_holes(&topology, &rest_f32).unwrap();
     let virtual_triangles = eyes.iter().flat_map(|e| e.triangles.clone()).collect();

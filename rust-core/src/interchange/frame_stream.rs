@@ -4,8 +4,11 @@
 use super::*;
 use crate::session::Frame;
 
-/// Reads `frames.csv` (plain or Live Link Face).
-pub(super) fn read_frames(path: &Path) -> Result<Vec<Frame>, InterchangeError> {
+/// Reads a weight stream: a Live Link Face CSV export (`Timecode`,
+/// `BlendshapeCount`, the 52 capitalized names; head and eye rotation
+/// columns are ignored) or `timestamp,<52 names>`. Frames carry no mesh and
+/// count as tracked; times start at 0 s.
+pub fn read_frames(path: &Path) -> Result<Vec<Frame>, InterchangeError> {
     let table = read_weight_table(path, &["timestamp", "timecode"])?;
     let live_link = table.key_name.eq_ignore_ascii_case("timecode");
     let key_error = |row: &weights_csv::WeightRow, message: String| InterchangeError::Key {

@@ -59,9 +59,10 @@ pub mod weights_csv;
 pub use error::InterchangeError;
 use error::read_text;
 pub use export::export_folder;
+use frame_stream::frame_rate;
 #[cfg(test)]
 use frame_stream::parse_timecode;
-use frame_stream::{frame_rate, read_frames};
+pub use frame_stream::read_frames;
 
 pub use obj_reader::{ObjMesh, read_obj};
 pub use weights_csv::{WEIGHT_TOLERANCE, WeightTable, read_weight_table};

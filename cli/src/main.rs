@@ -7,6 +7,7 @@ mod info;
 mod interchange;
 mod personalize;
 mod progress;
+mod replay;
 mod simulate;
 
 use clap::{Parser, Subcommand};
@@ -82,6 +83,16 @@ enum Command {
         #[arg(long)]
         out: PathBuf,
     },
+    /// Run a recorded frame stream through the guided capture, as the app
+    /// would live, and report each capture (and its distance from the true
+    /// peak on simulated sessions).
+    Replay {
+        /// A session file, or a Live Link Face CSV of weights.
+        file: PathBuf,
+        /// Print a JSON object instead of the table.
+        #[arg(long)]
+        json: bool,
+    },
     /// Print a summary of a session file.
     Info {
         /// The session file.
@@ -105,6 +116,7 @@ fn main() -> ExitCode {
             geometry_window,
         } => simulate::simulate(seed, geometry_window, &out),
         Command::Info { file, json } => info::info(&file, json),
+        Command::Replay { file, json } => replay::replay_command(&file, json),
         Command::Personalize { file, method, out } => {
             personalize::personalize_command(&file, method, &out)
         }

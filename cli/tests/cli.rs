@@ -182,3 +182,62 @@ fn personalize_writes_the_neutral_and_52_named_shapes() {
     assert!(!bad.status.success());
     assert!(stderr(&bad).contains("unknown method"), "{}", stderr(&bad));
 }
+
+#[test]
+fn replay_json_reports_every_capture_and_its_distance_from_the_truth() {
+    let out = likeness(&["replay", &sample(), "--json"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON on stdout");
+    assert_eq!(v["input"], "session");
+    assert_eq!(v["finished"], true);
+    assert_eq!(v["skipped"], 0);
+    let steps = v["steps"].as_array().unwrap();
+    assert_eq!(v["captured"].as_u64().unwrap() as usize, steps.len());
+    assert!(v["elapsed_ms"].as_f64().unwrap() > 0.0);
+    assert!(v["max_frame_error"].as_u64().unwrap() <= 2);
+    assert_eq!(steps[0]["name"], "neutral");
+    assert_eq!(steps[1]["name"], "browInnerUp");
+    assert_eq!(steps.iter().filter(|s| s["kind"] == "prompt").count(), 52);
+    for s in steps.iter().filter(|s| s["kind"] == "prompt") {
+        assert!(s["frame_error"].as_i64().unwrap().abs() <= 2, "{s}");
+    }
+}
+
+#[path = "../../tests/tests/support/live_link.rs"]
+#[allow(dead_code)]
+mod live_link;
+
+#[test]
+fn replay_reads_a_live_link_face_csv_and_names_bad_lines() {
+    let dir = std::env::temp_dir().join(format!("likeness-cli-replay-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let session = likeness::session_file::read(sample()).unwrap();
+    let csv = dir.join("take.csv");
+    std::fs::write(&csv, live_link::live_link_csv(&session.frames)).unwrap();
+    let out = likeness(&["replay", csv.to_str().unwrap(), "--json"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["input"], "weights-csv");
+    assert_eq!(v["captured"], 53);
+    assert_eq!(v["max_frame_error"], serde_json::Value::Null);
+    let text = likeness(&["replay", csv.to_str().unwrap()]);
+    assert!(String::from_utf8_lossy(&text.stdout).contains("53 captured"));
+
+    let broken = live_link::live_link_csv(&session.frames[..10]);
+    let bad = dir.join("bad.csv");
+    std::fs::write(
+        &bad,
+        broken.replace("\n10:42:31:03.000,52,", "\n10:42:31:03.000,52,x"),
+    )
+    .unwrap();
+    let out = likeness(&["replay", bad.to_str().unwrap()]);
+    assert!(!out.status.success());
+    let message = stderr(&out);
+    // Line 5 (header + 3 good rows), the column and its name.
+    assert!(
+        message.contains("bad.csv:5: column 3 (EyeBlinkLeft)"),
+        "{message}"
+    );
+    assert!(!message.contains("panicked"), "{message}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -16,7 +16,8 @@ pub struct CaptureQuality {
     /// [`companions`]).
     pub dominated_by: Option<Blendshape>,
     /// The face was not tracked for some frame within
-    /// [`QualityConfig::tracking_margin`] frames of the captured one.
+    /// [`QualityConfig::tracking_margin`] frames of the captured one (among
+    /// the frames seen until the capture was confirmed).
     pub tracking_lost: bool,
 }
 

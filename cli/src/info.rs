@@ -42,7 +42,7 @@ impl Summary {
                     .captures
                     .iter()
                     .filter_map(|c| {
-                        let peak = t.peak_frames.iter().find(|p| p.0 == c.prompt)?.1;
+                        let peak = t.peak_frame(c.prompt)?;
                         Some((c.frame? as f64 - peak as f64).abs())
                     })
                     .collect()

@@ -46,12 +46,11 @@ pub fn replay_command(file: &Path, json: bool) -> CliResult {
         let mut head = [0u8; 8];
         let mut f = std::fs::File::open(file)
             .map_err(|e| format!("cannot open {}: {e}", file.display()))?;
-        f.read(&mut head).map(|n| n == 8).unwrap_or(false)
-            && likeness::session_file::MAGIC.starts_with(&head)
+        f.read_exact(&mut head).is_ok() && head == likeness::session_file::MAGIC
     };
     let config = GuidedCaptureConfig::default();
     let (input, report, elapsed) = if is_session {
-        let session = likeness::session_file::read(file)?;
+        let session = crate::info::read_session(file)?;
         let start = Instant::now();
         let report = replay_session(session, config)?;
         ("session", report, start.elapsed())

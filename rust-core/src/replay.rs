@@ -7,7 +7,6 @@
 use crate::guided_capture::{
     CaptureQuality, GuidedCapture, GuidedCaptureConfig, GuidedCaptureError, Step, TestPrompt,
 };
-use crate::prompt_order::PROMPT_ORDER;
 use crate::session::{Frame, Session};
 
 /// What happened to one step in the replay.
@@ -96,9 +95,8 @@ pub fn replay_frames(
             .any(|e| matches!(e, crate::guided_capture::CaptureEvent::Finished { .. }));
     }
     let config = capture.config();
-    let steps = std::iter::once(Step::Neutral)
-        .chain(PROMPT_ORDER.iter().map(|s| Step::Expression(*s)))
-        .chain((0..config.tests.len()).map(Step::Test))
+    let steps = config
+        .steps()
         .map(|step| {
             let c = capture.capture_of(step);
             ReplayedStep {
@@ -126,9 +124,14 @@ pub fn replay_session(
     session: Session,
     config: GuidedCaptureConfig,
 ) -> Result<ReplayReport, GuidedCaptureError> {
+    let Session {
+        frames,
+        tests,
+        truth,
+        ..
+    } = session;
     let config = GuidedCaptureConfig {
-        tests: session
-            .tests
+        tests: tests
             .iter()
             .map(|t| TestPrompt {
                 id: t.id.clone(),
@@ -137,20 +140,14 @@ pub fn replay_session(
             .collect(),
         ..config
     };
-    let truth = session.truth.as_ref();
-    let prompt_peaks: Vec<_> = truth.map(|t| t.peak_frames.clone()).unwrap_or_default();
-    let test_peaks: Vec<Option<u64>> = session
-        .tests
-        .iter()
-        .map(|t| truth.and(t.frame).map(u64::from))
-        .collect();
-    let true_frame = move |step: Step| match step {
-        Step::Expression(shape) => prompt_peaks
-            .iter()
-            .find(|(s, _)| *s == shape)
-            .map(|(_, f)| u64::from(*f)),
-        Step::Test(i) => test_peaks.get(i).copied().flatten(),
-        Step::Neutral => None,
+    let true_frame = |step: Step| {
+        let truth = truth.as_ref()?;
+        match step {
+            Step::Expression(shape) => truth.peak_frame(shape),
+            Step::Test(i) => tests.get(i)?.frame,
+            Step::Neutral => None,
+        }
+        .map(u64::from)
     };
-    replay_frames(session.frames, config, true_frame)
+    replay_frames(frames, config, true_frame)
 }

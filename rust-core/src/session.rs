@@ -114,6 +114,16 @@ pub struct GroundTruth {
     pub test_activations: Vec<Weights>,
 }
 
+impl GroundTruth {
+    /// The frame where `prompt`'s true activation peaked, if it was prompted.
+    pub fn peak_frame(&self, prompt: Blendshape) -> Option<u32> {
+        self.peak_frames
+            .iter()
+            .find(|(shape, _)| *shape == prompt)
+            .map(|(_, frame)| *frame)
+    }
+}
+
 /// Everything recorded in one capture session.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Session {

@@ -73,11 +73,7 @@ fn a_live_link_face_export_of_the_weights_replays_within_two_frames() {
     std::fs::remove_file(&path).unwrap();
     assert_eq!(frames.len(), session.frames.len());
     let report = replay_frames(frames, GuidedCaptureConfig::default(), |step| match step {
-        Step::Expression(shape) => truth
-            .peak_frames
-            .iter()
-            .find(|(s, _)| *s == shape)
-            .map(|(_, f)| u64::from(*f)),
+        Step::Expression(shape) => truth.peak_frame(shape).map(u64::from),
         _ => None,
     })
     .unwrap();

@@ -123,6 +123,16 @@ impl Default for GuidedCaptureConfig {
     }
 }
 
+impl GuidedCaptureConfig {
+    /// Every step in the order they are asked for: neutral, the 52 prompts,
+    /// the tests.
+    pub fn steps(&self) -> impl Iterator<Item = Step> + use<> {
+        std::iter::once(Step::Neutral)
+            .chain(PROMPT_ORDER.iter().map(|s| Step::Expression(*s)))
+            .chain((0..self.tests.len()).map(Step::Test))
+    }
+}
+
 /// A weight at most this far above its baseline does not count towards a
 /// test expression's intensity: 0.05 is about four times the frame noise of
 /// one ARKit weight, so 52 noisy weights add next to nothing.

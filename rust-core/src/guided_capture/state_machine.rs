@@ -36,15 +36,12 @@ impl GuidedCapture {
     /// A capture about to start with the neutral scan. Call
     /// [`GuidedCapture::start`] for the first [`CaptureEvent::Started`].
     pub fn new(config: GuidedCaptureConfig) -> GuidedCapture {
-        let steps = std::iter::once(Step::Neutral)
-            .chain(PROMPT_ORDER.iter().map(|s| Step::Expression(*s)))
-            .chain((0..config.tests.len()).map(Step::Test));
         GuidedCapture {
+            queue: config.steps().collect(),
             neutral_detector: NeutralDetector::new(config.neutral),
             tests: vec![None; config.tests.len()],
             config,
             active: None,
-            queue: steps.collect(),
             retained: VecDeque::new(),
             untracked: VecDeque::new(),
             neutral: None,
@@ -64,7 +61,7 @@ impl GuidedCapture {
     /// Begins the first step (the neutral scan); a no-op once started.
     pub fn start(&mut self) -> Vec<CaptureEvent> {
         let mut events = Vec::new();
-        if self.active.is_none() && self.frames_seen == 0 && self.neutral.is_none() {
+        if self.active.is_none() && self.frames_seen == 0 {
             self.advance(&mut events);
         }
         events
@@ -90,9 +87,9 @@ impl GuidedCapture {
         match active.step {
             Step::Neutral => {
                 if let Some((at, chosen)) = self.neutral_detector.push(index, frame) {
-                    let capture = self.capture(at, chosen, CaptureQuality::default());
-                    self.neutral = Some(capture);
-                    self.finish_step(Step::Neutral, at, &mut events);
+                    let quality = CaptureQuality::default();
+                    self.neutral = Some(self.capture(at, chosen, quality));
+                    self.finish_step(Step::Neutral, at, quality, &mut events);
                 }
             }
             step => {
@@ -181,11 +178,17 @@ impl GuidedCapture {
     pub fn capture_of(&self, step: Step) -> Option<&Capture> {
         match step {
             Step::Neutral => self.neutral.as_ref(),
-            Step::Expression(shape) => {
-                let i = PROMPT_ORDER.iter().position(|s| *s == shape)?;
-                self.expressions[i].as_ref()
-            }
+            Step::Expression(shape) => self.expressions[prompt_index(shape)].as_ref(),
             Step::Test(i) => self.tests.get(i)?.as_ref(),
+        }
+    }
+
+    /// Where the capture of `step` is kept (`None` for an unknown test).
+    fn slot(&mut self, step: Step) -> Option<&mut Option<Capture>> {
+        match step {
+            Step::Neutral => Some(&mut self.neutral),
+            Step::Expression(shape) => Some(&mut self.expressions[prompt_index(shape)]),
+            Step::Test(i) => self.tests.get_mut(i),
         }
     }
 
@@ -252,16 +255,10 @@ impl GuidedCapture {
             .iter()
             .any(|u| u.abs_diff(retained.index) <= margin);
         let capture = self.capture(retained.index, retained.frame, quality);
-        match step {
-            Step::Expression(shape) => {
-                if let Some(i) = PROMPT_ORDER.iter().position(|s| *s == shape) {
-                    self.expressions[i] = Some(capture);
-                }
-            }
-            Step::Test(i) => self.tests[i] = Some(capture),
-            Step::Neutral => self.neutral = Some(capture),
+        if let Some(slot) = self.slot(step) {
+            *slot = Some(capture);
         }
-        self.finish_step(step, retained.index, events);
+        self.finish_step(step, retained.index, quality, events);
     }
 
     fn capture(&mut self, index: u64, frame: Frame, quality: CaptureQuality) -> Capture {
@@ -277,9 +274,14 @@ impl GuidedCapture {
         }
     }
 
-    fn finish_step(&mut self, step: Step, frame: u64, events: &mut Vec<CaptureEvent>) {
+    fn finish_step(
+        &mut self,
+        step: Step,
+        frame: u64,
+        quality: CaptureQuality,
+        events: &mut Vec<CaptureEvent>,
+    ) {
         self.skipped.retain(|s| *s != step);
-        let quality = self.capture_of(step).map(|c| c.quality).unwrap_or_default();
         events.push(CaptureEvent::Captured {
             step,
             frame,
@@ -351,4 +353,12 @@ impl GuidedCapture {
             self.untracked.pop_front();
         }
     }
+}
+
+/// Position of `shape` in [`PROMPT_ORDER`], which holds every shape once.
+fn prompt_index(shape: Blendshape) -> usize {
+    PROMPT_ORDER
+        .iter()
+        .position(|s| *s == shape)
+        .unwrap_or(shape.index())
 }

@@ -1,6 +1,6 @@
 //! A whole simulated capture session, as the app would record it.
 //!
-//! A subject (from [`crate::subject`]) performs the timeline of
+//! A subject (from [`crate::subject`]) performs the [`Timeline`] drawn by
 //! [`crate::performance`]; the tracker of [`crate::tracker`] reports every
 //! frame at 60 fps. The app keeps:
 //! - the neutral scan: the tracked mesh at [`NEUTRAL_SCAN_AT`];
@@ -17,7 +17,9 @@ use crate::face_mask::face_mask;
 use crate::performance::{NEUTRAL_SCAN_AT, perform_session};
 use crate::subject::Subject;
 use crate::template::{generic_template, to_f32};
+use crate::timeline::{PromptTrack, Timeline, frame_at};
 use crate::tracker::Tracker;
+use glam::Vec3;
 use likeness::{
     BLENDSHAPE_COUNT, Blendshape, CapturedExpression, DeviceInfo, Frame, GroundTruth, Session,
     TestExpression, Weights,
@@ -63,7 +65,58 @@ pub fn simulate_session_with(
     let mask = face_mask();
     let subject = Subject::from_seed(seed);
     let timeline = perform_session(seed, FRAME_RATE);
-    let mut tracker = Tracker::new(seed, &mask.uv, FRAME_RATE);
+    let tracker = Tracker::new(seed, &mask.uv, FRAME_RATE);
+    let Recording {
+        mut frames,
+        true_faces,
+    } = track_every_frame(&subject, &timeline, tracker, progress);
+    let (captures, true_captures) = choose_captures(&timeline, &frames, &true_faces);
+    let tests = record_tests(&timeline, &frames);
+    let neutral_frame = timeline.neutral_frame;
+    let neutral = frames[neutral_frame].vertices.clone().unwrap_or_default();
+    if let Some(window) = options.geometry_window {
+        let centres: Vec<usize> = captures
+            .iter()
+            .filter_map(|c| c.frame.map(|f| f as usize))
+            .chain(timeline.tests.iter().map(|t| t.frame))
+            .chain(std::iter::once(neutral_frame))
+            .collect();
+        keep_geometry_near(&mut frames, &centres, window);
+    }
+    debug_assert_eq!(neutral_frame, frame_at(NEUTRAL_SCAN_AT, FRAME_RATE));
+    let truth = ground_truth(seed, &subject, &timeline, true_captures, &true_faces);
+    Session {
+        device: simulated_device(seed),
+        frame_rate: FRAME_RATE as f32,
+        topology: mask.topology.clone(),
+        template: generic_template(),
+        neutral,
+        frames,
+        captures,
+        tests,
+        truth: Some(truth),
+    }
+}
+
+/// What the phone recorded, frame by frame, with the noise-free faces the
+/// ground truth needs.
+struct Recording {
+    /// The frames as the app stores them.
+    frames: Vec<Frame>,
+    /// The noise-free face of each frame that is the neutral scan, a test
+    /// expression or part of a prompt's counted attempt; `None` elsewhere.
+    true_faces: Vec<Option<Vec<Vec3>>>,
+}
+
+/// Tracks every frame: the subject's face at the frame's true activations,
+/// as the tracker reports it, with the timeline's spikes and tracking
+/// losses, calling `progress(done, total)` as it goes.
+fn track_every_frame(
+    subject: &Subject,
+    timeline: &Timeline,
+    mut tracker: Tracker,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Recording {
     let total = timeline.activations.len();
     let mut frames: Vec<Frame> = Vec::with_capacity(total);
     let mut true_faces = Vec::new();
@@ -73,50 +126,68 @@ pub fn simulate_session_with(
     for (f, a) in timeline.activations.iter().enumerate() {
         let face = subject.model.evaluate(a);
         let (mut weights, vertices) = tracker.observe(a, &face);
-        let lost = timeline.tracking_lost.iter().any(|r| r.contains(&f));
-        if let Some(p) = timeline
-            .prompts
-            .iter()
-            .find(|p| p.spike.is_some_and(|(sf, _)| sf == f))
-        {
-            weights.set(p.shape, p.spike.map(|s| s.1).unwrap_or(0.0));
+        if let Some((shape, value)) = spike_at(timeline, f) {
+            weights.set(shape, value);
         }
-        let frame = match (lost, frames.last()) {
-            // ARKit keeps the last estimate while the face is not tracked.
-            (true, Some(last)) => Frame {
-                timestamp: f as f64 / FRAME_RATE,
-                tracked: false,
-                ..last.clone()
-            },
-            _ => Frame {
-                timestamp: f as f64 / FRAME_RATE,
-                weights,
-                tracked: !lost,
-                vertices: Some(vertices),
-            },
-        };
-        frames.push(frame);
-        true_faces.push(
-            if keep.contains(&f) || timeline.prompts.iter().any(|p| p.attempt.contains(&f)) {
-                Some(to_f32(&face))
-            } else {
-                None
-            },
-        );
+        let lost = timeline.tracking_lost.iter().any(|r| r.contains(&f));
+        frames.push(recorded_frame(f, weights, vertices, lost, frames.last()));
+        let needed = keep.contains(&f) || timeline.prompts.iter().any(|p| p.attempt.contains(&f));
+        true_faces.push(needed.then(|| to_f32(&face)));
         if f % 256 == 0 || f + 1 == total {
             progress(f + 1, total);
         }
     }
+    Recording { frames, true_faces }
+}
+
+/// The one-frame tracker spike at frame `f`, if a prompt has one there: the
+/// prompted shape and the value the tracker reports for it.
+fn spike_at(timeline: &Timeline, f: usize) -> Option<(Blendshape, f32)> {
+    timeline.prompts.iter().find_map(|p| match p.spike {
+        Some((frame, value)) if frame == f => Some((p.shape, value)),
+        _ => None,
+    })
+}
+
+/// The frame the app stores at index `f` from the tracker's `weights` and
+/// `vertices`; while the face is `lost`, ARKit keeps its `last` estimate.
+fn recorded_frame(
+    f: usize,
+    weights: Weights,
+    vertices: Vec<Vec3>,
+    lost: bool,
+    last: Option<&Frame>,
+) -> Frame {
+    let timestamp = f as f64 / FRAME_RATE;
+    match (lost, last) {
+        (true, Some(last)) => Frame {
+            timestamp,
+            tracked: false,
+            ..last.clone()
+        },
+        _ => Frame {
+            timestamp,
+            weights,
+            tracked: !lost,
+            vertices: Some(vertices),
+        },
+    }
+}
+
+/// Chooses the capture frames, one per prompt that has a tracked frame in
+/// its counted attempt (see [`capture_frame`]); returns the captures and the
+/// noise-free faces at them.
+fn choose_captures(
+    timeline: &Timeline,
+    frames: &[Frame],
+    true_faces: &[Option<Vec<Vec3>>],
+) -> (Vec<CapturedExpression>, Vec<Vec<Vec3>>) {
     let mut captures = Vec::new();
     let mut true_captures = Vec::new();
     for p in &timeline.prompts {
-        let j = p.shape.index();
-        let best = p
-            .attempt
-            .clone()
-            .filter(|f| frames[*f].tracked && p.spike.is_none_or(|(sf, _)| sf != *f))
-            .max_by(|a, b| frames[*a].weights.0[j].total_cmp(&frames[*b].weights.0[j]));
-        let Some(f) = best else { continue };
+        let Some(f) = capture_frame(p, frames) else {
+            continue;
+        };
         captures.push(CapturedExpression {
             prompt: p.shape,
             frame: Some(f as u32),
@@ -125,7 +196,23 @@ pub fn simulate_session_with(
         });
         true_captures.push(true_faces[f].clone().unwrap_or_default());
     }
-    let tests: Vec<TestExpression> = timeline
+    (captures, true_captures)
+}
+
+/// The app's capture of prompt `p`: the tracked frame of its counted attempt
+/// where the *tracked* weight of the requested shape is largest, ignoring the
+/// injected spike.
+fn capture_frame(p: &PromptTrack, frames: &[Frame]) -> Option<usize> {
+    let j = p.shape.index();
+    p.attempt
+        .clone()
+        .filter(|f| frames[*f].tracked && p.spike.is_none_or(|(sf, _)| sf != *f))
+        .max_by(|a, b| frames[*a].weights.0[j].total_cmp(&frames[*b].weights.0[j]))
+}
+
+/// Records each test expression at its true peak frame.
+fn record_tests(timeline: &Timeline, frames: &[Frame]) -> Vec<TestExpression> {
+    timeline
         .tests
         .iter()
         .map(|t| TestExpression {
@@ -134,28 +221,31 @@ pub fn simulate_session_with(
             weights: frames[t.frame].weights,
             vertices: frames[t.frame].vertices.clone().unwrap_or_default(),
         })
-        .collect();
-    let neutral_frame = timeline.neutral_frame;
-    let neutral = frames[neutral_frame].vertices.clone().unwrap_or_default();
-    if let Some(window) = options.geometry_window {
-        let reach = (window * FRAME_RATE).round() as usize;
-        let centres: Vec<usize> = captures
-            .iter()
-            .filter_map(|c| c.frame.map(|f| f as usize))
-            .chain(timeline.tests.iter().map(|t| t.frame))
-            .chain(std::iter::once(neutral_frame))
-            .collect();
-        for (f, frame) in frames.iter_mut().enumerate() {
-            if !centres.iter().any(|c| c.abs_diff(f) <= reach) {
-                frame.vertices = None;
-            }
+        .collect()
+}
+
+/// Drops the mesh of every frame more than `window` seconds from all of the
+/// `centres` (frame indices); the frames keep their weights.
+fn keep_geometry_near(frames: &mut [Frame], centres: &[usize], window: f64) {
+    let reach = frame_at(window, FRAME_RATE);
+    for (f, frame) in frames.iter_mut().enumerate() {
+        if !centres.iter().any(|c| c.abs_diff(f) <= reach) {
+            frame.vertices = None;
         }
     }
-    debug_assert_eq!(
-        neutral_frame,
-        (NEUTRAL_SCAN_AT * FRAME_RATE).round() as usize
-    );
-    let truth = GroundTruth {
+}
+
+/// Assembles the ground truth: the true peak frames, the noise-free neutral,
+/// the subject's linear blendshapes, the noise-free faces at the captures
+/// (`true_captures`) and tests, and the tests' true activations.
+fn ground_truth(
+    seed: u64,
+    subject: &Subject,
+    timeline: &Timeline,
+    true_captures: Vec<Vec<Vec3>>,
+    true_faces: &[Option<Vec<Vec3>>],
+) -> GroundTruth {
+    GroundTruth {
         seed,
         peak_frames: timeline
             .prompts
@@ -182,21 +272,16 @@ pub fn simulate_session_with(
                 }))
             })
             .collect(),
-    };
-    Session {
-        device: DeviceInfo {
-            model: "likeness-sim".into(),
-            system_version: format!("simulated subject {seed}"),
-            app_version: format!("likeness-sim model {SIMULATOR_VERSION}"),
-            recorded_at: String::new(),
-        },
-        frame_rate: FRAME_RATE as f32,
-        topology: mask.topology.clone(),
-        template: generic_template(),
-        neutral,
-        frames,
-        captures,
-        tests,
-        truth: Some(truth),
+    }
+}
+
+/// The device a simulated session names: the simulator, the subject's seed
+/// and the model version.
+fn simulated_device(seed: u64) -> DeviceInfo {
+    DeviceInfo {
+        model: "likeness-sim".into(),
+        system_version: format!("simulated subject {seed}"),
+        app_version: format!("likeness-sim model {SIMULATOR_VERSION}"),
+        recorded_at: String::new(),
     }
 }

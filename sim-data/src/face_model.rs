@@ -43,13 +43,6 @@ impl SparseField {
             positions[*i as usize] += scale * *d;
         }
     }
-
-    /// The field as one displacement per vertex.
-    pub fn dense(&self, n: usize) -> Vec<DVec3> {
-        let mut out = vec![DVec3::ZERO; n];
-        self.add_to(&mut out, 1.0);
-        out
-    }
 }
 
 /// Nonlinear extras of a person (none for the linear template).

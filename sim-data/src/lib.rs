@@ -7,6 +7,7 @@
 #![warn(missing_docs)]
 
 pub mod capture_session;
+pub mod envelope;
 pub mod face_mask;
 pub mod face_model;
 pub mod performance;
@@ -15,6 +16,7 @@ pub mod shape_spec;
 pub mod subject;
 pub mod template;
 pub mod test_expressions;
+pub mod timeline;
 pub mod tracker;
 
 pub use capture_session::{

@@ -1,14 +1,18 @@
 //! How a person performs the app's prompts: true muscle activations over
 //! time, at the stream's frame rate.
 //!
-//! For each prompt the person reacts after a delay, ramps up, overshoots to a
-//! peak and settles to a slightly lower hold with tremor (the common pattern
-//! of voluntary force production: an initial peak, then a sustained level),
-//! and ramps down. Other shapes come along (nobody can wink without the other
-//! eye twitching). Sometimes the first attempt is too weak and the person
-//! tries again; sometimes the tracker reports a one-frame spike.
+//! After a neutral hold, for each prompt the person reacts after a delay and
+//! makes an attempt (an [`Envelope`]: a ramp up, an overshoot to a peak, a
+//! slightly lower hold with tremor, a ramp down). Other shapes come along
+//! (nobody can wink without the other eye twitching). Sometimes the first
+//! attempt is too weak and the person tries again; sometimes the tracker
+//! reports a one-frame spike or loses the face. The test expressions of
+//! [`crate::test_expressions`] follow the prompts.
 
+use crate::envelope::{Envelope, Score};
 use crate::regions::smoothstep;
+use crate::test_expressions::perform_tests;
+use crate::timeline::{PromptTrack, TestTrack, Timeline, frame_at};
 use likeness::{BLENDSHAPE_COUNT, Blendshape, prompt_order::PROMPT_ORDER};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -34,82 +38,6 @@ pub const SPIKE_PROBABILITY: f64 = 0.10;
 pub const TRACKING_LOSS_PROBABILITY: f64 = 0.03;
 /// Time the app shows "captured" before the next prompt (s).
 pub const ADVANCE_AFTER_PEAK: f64 = 0.35;
-/// Amplitude of physiological tremor on a hold (activation units, 8–12 Hz).
-pub const TREMOR: f64 = 0.01;
-
-/// One attempt at an expression: an activation envelope over time.
-#[derive(Clone, Copy, Debug)]
-pub struct Envelope {
-    /// Start (s).
-    pub start: f64,
-    /// Rise time to the peak (s).
-    pub rise: f64,
-    /// Peak activation.
-    pub peak: f64,
-    /// Hold level as a fraction of the peak.
-    pub hold_ratio: f64,
-    /// Time constant of settling from peak to hold (s).
-    pub settle: f64,
-    /// Hold duration (s).
-    pub hold: f64,
-    /// Fall time (s).
-    pub fall: f64,
-    /// Tremor frequency (Hz) and phase (rad).
-    pub tremor: (f64, f64),
-}
-
-impl Envelope {
-    fn draw(rng: &mut ChaCha8Rng, start: f64, peak: f64) -> Envelope {
-        Envelope {
-            start,
-            rise: rng.random_range(0.25..0.5),
-            peak,
-            hold_ratio: rng.random_range(0.8..0.92),
-            settle: rng.random_range(0.08..0.15),
-            hold: rng.random_range(0.4..0.9),
-            fall: rng.random_range(0.25..0.5),
-            tremor: (
-                rng.random_range(8.0..12.0),
-                rng.random_range(0.0..std::f64::consts::TAU),
-            ),
-        }
-    }
-
-    /// Time of the peak (s).
-    pub fn peak_time(&self) -> f64 {
-        self.start + self.rise
-    }
-
-    /// Time the activation is back to zero (s).
-    pub fn end(&self) -> f64 {
-        self.start + self.rise + self.hold + self.fall
-    }
-
-    /// Activation at time `t`, normalised so the peak is `self.peak`.
-    pub fn at(&self, t: f64) -> f64 {
-        let t = t - self.start;
-        if t <= 0.0 {
-            return 0.0;
-        }
-        if t < self.rise {
-            return self.peak * smoothstep(0.0, self.rise, t);
-        }
-        let level = |s: f64| {
-            let hold = self.peak * self.hold_ratio;
-            let settle = (-(s / self.settle).powi(2)).exp();
-            let tremor = TREMOR
-                * (1.0 - settle)
-                * (std::f64::consts::TAU * self.tremor.0 * s + self.tremor.1).sin();
-            hold + (self.peak - hold) * settle + tremor
-        };
-        let s = t - self.rise;
-        if s < self.hold {
-            return level(s);
-        }
-        level(self.hold) * (1.0 - smoothstep(0.0, self.fall, s - self.hold))
-    }
-}
-
 /// Shapes that come along with a prompt: `(prompt, other, base amount)`,
 /// listed for the left side and mirrored. Each person's amount is the base
 /// times a factor in 0.5–1.5. Gaze is conjugate: asked to look down with the
@@ -164,68 +92,29 @@ pub const COACTIVATION: [(Blendshape, Blendshape, f64); 44] = {
     ]
 };
 
-/// One prompt as performed.
-#[derive(Clone, Debug)]
-pub struct PromptTrack {
-    /// The requested shape.
-    pub shape: Blendshape,
-    /// Frame at which the app showed the prompt.
-    pub shown: usize,
-    /// Frames of the attempt that counts.
-    pub attempt: Range<usize>,
-    /// Frame of the true peak of the requested activation.
-    pub true_peak: usize,
-    /// Frames of a failed first attempt, if any.
-    pub failed_attempt: Option<Range<usize>>,
-    /// A one-frame tracker spike: frame and reported value.
-    pub spike: Option<(usize, f32)>,
-}
-
-/// A held-out test expression as performed.
-#[derive(Clone, Debug)]
-pub struct TestTrack {
-    /// Its name, e.g. `smile-squint`.
-    pub id: String,
-    /// Frame of its true peak.
-    pub frame: usize,
-}
-
-/// A whole session's true activations, frame by frame.
-#[derive(Clone, Debug)]
-pub struct Timeline {
-    /// Frame rate (Hz).
-    pub frame_rate: f64,
-    /// True activations per frame.
-    pub activations: Vec<[f64; BLENDSHAPE_COUNT]>,
-    /// Frame of the neutral scan.
-    pub neutral_frame: usize,
-    /// The 52 prompts in order.
-    pub prompts: Vec<PromptTrack>,
-    /// The test expressions in order.
-    pub tests: Vec<TestTrack>,
-    /// Frames during which tracking is lost.
-    pub tracking_lost: Vec<Range<usize>>,
-}
-
-struct Builder {
-    rng: ChaCha8Rng,
-    frame_rate: f64,
-    /// (shape, envelope, scale) contributions.
-    parts: Vec<(usize, Envelope, f64)>,
-}
-
-impl Builder {
-    fn frame(&self, t: f64) -> usize {
-        (t * self.frame_rate).round() as usize
-    }
-
-    fn perform(&mut self, recipe: &[(usize, f64)], env: Envelope) {
-        for (shape, amount) in recipe {
-            self.parts.push((*shape, env, *amount));
-        }
+/// Draws a session's performance: neutral hold, 52 prompts in
+/// [`PROMPT_ORDER`], then the test expressions from
+/// [`crate::test_expressions`].
+pub fn perform_session(seed: u64, frame_rate: f64) -> Timeline {
+    let rng = ChaCha8Rng::seed_from_u64(seed ^ 0x5045_5246_4f52_4d00); // "PERFORM"
+    let mut performer = Performer::new(rng, frame_rate);
+    let neutral = NeutralHold::draw(&mut performer.rng);
+    let (mut prompts, tracking_lost) = performer.perform_prompts();
+    let tests = performer.perform_tests();
+    let activations = true_activations(&neutral, &performer.score, performer.clock, frame_rate);
+    locate_true_peaks(&mut prompts, &activations);
+    Timeline {
+        frame_rate,
+        activations,
+        neutral_frame: frame_at(NEUTRAL_SCAN_AT, frame_rate),
+        prompts,
+        tests,
+        tracking_lost,
     }
 }
 
+/// Draws each person's co-activation table from [`COACTIVATION`]:
+/// `(prompted shape, other shape, amount)`, mirrored pairs included.
 fn coactivation(rng: &mut ChaCha8Rng) -> Vec<(usize, usize, f64)> {
     let mut table = Vec::new();
     for (from, to, amount) in COACTIVATION {
@@ -245,110 +134,228 @@ fn coactivation(rng: &mut ChaCha8Rng) -> Vec<(usize, usize, f64)> {
     table
 }
 
-/// Draws a session's performance: neutral hold, 52 prompts in
-/// [`PROMPT_ORDER`], then the test expressions from
-/// [`crate::test_expressions`].
-pub fn perform_session(seed: u64, frame_rate: f64) -> Timeline {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x5045_5246_4f52_4d00); // "PERFORM"
-    let coact = coactivation(&mut rng);
-    let reaction = LogNormal::new(REACTION_MEDIAN.0.ln(), REACTION_MEDIAN.1).expect("valid");
-    let mut b = Builder {
-        rng,
-        frame_rate,
-        parts: Vec::new(),
-    };
-    // Neutral hold: faint, slow micro-activations of a few shapes.
-    let mut neutral_parts = Vec::new();
-    for _ in 0..3 {
-        let shape = b.rng.random_range(0..BLENDSHAPE_COUNT);
-        neutral_parts.push((
-            shape,
-            b.rng.random_range(0.0..0.03),
-            b.rng.random_range(0.0..std::f64::consts::TAU),
-        ));
-    }
-    let mut t = NEUTRAL_HOLD;
-    let mut previous_end = 0.0;
-    let mut prompts = Vec::new();
-    let mut tracking_lost = Vec::new();
-    for shape in PROMPT_ORDER {
-        let shown = t;
-        let mut start =
-            (shown + reaction.sample(&mut b.rng).clamp(0.25, 1.5)).max(previous_end + 0.05);
-        let mut failed_attempt = None;
-        if b.rng.random_bool(FAILED_ATTEMPT_PROBABILITY) {
-            let peak = b.rng.random_range(FAILED_PEAK_RANGE.0..FAILED_PEAK_RANGE.1);
-            let env = Envelope::draw(&mut b.rng, start, peak);
-            b.perform(&[(shape.index(), 1.0)], env);
-            failed_attempt = Some(b.frame(env.start)..b.frame(env.end()));
-            start = env.end() + b.rng.random_range(0.3..0.7);
+/// The faint, slow micro-activations of a few shapes during the neutral
+/// hold: `(shape, amount below 0.03, phase)`.
+struct NeutralHold(Vec<(usize, f64, f64)>);
+
+impl NeutralHold {
+    /// Draws three micro-activations.
+    fn draw(rng: &mut ChaCha8Rng) -> NeutralHold {
+        let mut parts = Vec::new();
+        for _ in 0..3 {
+            let shape = rng.random_range(0..BLENDSHAPE_COUNT);
+            parts.push((
+                shape,
+                rng.random_range(0.0..0.03),
+                rng.random_range(0.0..std::f64::consts::TAU),
+            ));
         }
-        let peak = b.rng.random_range(PEAK_RANGE.0..PEAK_RANGE.1);
-        let env = Envelope::draw(&mut b.rng, start, peak);
+        NeutralHold(parts)
+    }
+
+    /// Adds the micro-activations to every frame, fading them out over the
+    /// half second after the hold.
+    fn add_to(&self, activations: &mut [[f64; BLENDSHAPE_COUNT]], frame_rate: f64) {
+        for (f, a) in activations.iter_mut().enumerate() {
+            let time = f as f64 / frame_rate;
+            let fade = 1.0 - smoothstep(NEUTRAL_HOLD, NEUTRAL_HOLD + 0.5, time);
+            if fade > 0.0 {
+                for (shape, amount, phase) in &self.0 {
+                    a[*shape] += fade * amount * (0.5 + 0.5 * (0.7 * time + phase).sin());
+                }
+            }
+        }
+    }
+}
+
+/// The person going through the prompts: their random draws, their
+/// co-activation table and reaction delays, the score performed so far and
+/// the session's clock.
+struct Performer {
+    rng: ChaCha8Rng,
+    frame_rate: f64,
+    /// This person's co-activation table (see [`coactivation`]).
+    coactivation: Vec<(usize, usize, f64)>,
+    /// Distribution of the reaction delay (s).
+    reaction: LogNormal<f64>,
+    /// Everything performed so far.
+    score: Score,
+    /// When the app shows the next prompt (s).
+    clock: f64,
+    /// When the previous attempt ended (s).
+    previous_end: f64,
+}
+
+impl Performer {
+    /// A person at the end of the neutral hold, with their co-activation
+    /// table drawn from `rng`.
+    fn new(mut rng: ChaCha8Rng, frame_rate: f64) -> Performer {
+        let coactivation = coactivation(&mut rng);
+        let reaction = LogNormal::new(REACTION_MEDIAN.0.ln(), REACTION_MEDIAN.1).expect("valid");
+        Performer {
+            rng,
+            frame_rate,
+            coactivation,
+            reaction,
+            score: Score::default(),
+            clock: NEUTRAL_HOLD,
+            previous_end: 0.0,
+        }
+    }
+
+    /// The frame nearest to time `t` (s).
+    fn frame(&self, t: f64) -> usize {
+        frame_at(t, self.frame_rate)
+    }
+
+    /// Draws the prompt attempts, one prompt after another in
+    /// [`PROMPT_ORDER`]; returns the prompts and the frames where tracking
+    /// is lost.
+    fn perform_prompts(&mut self) -> (Vec<PromptTrack>, Vec<Range<usize>>) {
+        let mut prompts = Vec::new();
+        let mut tracking_lost = Vec::new();
+        for shape in PROMPT_ORDER {
+            let (prompt, lost) = self.perform_prompt(shape);
+            prompts.push(prompt);
+            tracking_lost.extend(lost);
+        }
+        (prompts, tracking_lost)
+    }
+
+    /// Performs one prompt shown now: an optional failed attempt, the
+    /// attempt that counts, an optional tracker spike before it, then the
+    /// app advances (after an optional tracking loss).
+    fn perform_prompt(&mut self, shape: Blendshape) -> (PromptTrack, Option<Range<usize>>) {
+        let shown = self.clock;
+        let start = self.reaction_start(shown);
+        let (failed_attempt, start) = self.failed_attempt(shape, start);
+        let env = self.counted_attempt(shape, start);
+        let spike = self.spike(shown, start);
+        let prompt = PromptTrack {
+            shape,
+            shown: self.frame(shown),
+            true_peak: self.frame(env.peak_time()),
+            attempt: self.frame(env.start)..self.frame(env.end()),
+            failed_attempt,
+            spike,
+        };
+        self.previous_end = env.end();
+        self.clock = env.peak_time() + ADVANCE_AFTER_PEAK;
+        let lost = self.tracking_loss(&env);
+        (prompt, lost)
+    }
+
+    /// When the person starts on a prompt shown at `shown`: after their
+    /// reaction delay, and after the previous attempt has ended.
+    fn reaction_start(&mut self, shown: f64) -> f64 {
+        (shown + self.reaction.sample(&mut self.rng).clamp(0.25, 1.5)).max(self.previous_end + 0.05)
+    }
+
+    /// With probability [`FAILED_ATTEMPT_PROBABILITY`], a too-weak first
+    /// attempt at `shape` from `start`; returns its frames and when the real
+    /// attempt starts (after a pause), or `None` and `start`.
+    fn failed_attempt(&mut self, shape: Blendshape, start: f64) -> (Option<Range<usize>>, f64) {
+        if !self.rng.random_bool(FAILED_ATTEMPT_PROBABILITY) {
+            return (None, start);
+        }
+        let peak = self
+            .rng
+            .random_range(FAILED_PEAK_RANGE.0..FAILED_PEAK_RANGE.1);
+        let env = Envelope::draw(&mut self.rng, start, peak);
+        self.score.perform(&[(shape.index(), 1.0)], env);
+        let frames = self.frame(env.start)..self.frame(env.end());
+        (Some(frames), env.end() + self.rng.random_range(0.3..0.7))
+    }
+
+    /// The attempt at `shape` that counts, from `start`, with the shapes
+    /// that come along.
+    fn counted_attempt(&mut self, shape: Blendshape, start: f64) -> Envelope {
+        let peak = self.rng.random_range(PEAK_RANGE.0..PEAK_RANGE.1);
+        let env = Envelope::draw(&mut self.rng, start, peak);
+        let recipe = self.recipe(shape);
+        self.score.perform(&recipe, env);
+        env
+    }
+
+    /// What an attempt at `shape` moves: the shape itself at full amount,
+    /// the person's co-activations and, 30% of the time, one random shape at
+    /// 0.03–0.1.
+    fn recipe(&mut self, shape: Blendshape) -> Vec<(usize, f64)> {
         let mut recipe = vec![(shape.index(), 1.0)];
         recipe.extend(
-            coact
+            self.coactivation
                 .iter()
                 .filter(|c| c.0 == shape.index())
                 .map(|c| (c.1, c.2)),
         );
-        if b.rng.random_bool(0.3) {
+        if self.rng.random_bool(0.3) {
             recipe.push((
-                b.rng.random_range(0..BLENDSHAPE_COUNT),
-                b.rng.random_range(0.03..0.1),
+                self.rng.random_range(0..BLENDSHAPE_COUNT),
+                self.rng.random_range(0.03..0.1),
             ));
         }
         recipe.retain(|(s, a)| *s != shape.index() || *a == 1.0);
-        b.perform(&recipe, env);
-        let spike_window = b.frame(shown) + 3..b.frame(start).saturating_sub(3);
-        let spike = (b.rng.random_bool(SPIKE_PROBABILITY) && !spike_window.is_empty()).then(|| {
+        recipe
+    }
+
+    /// With probability [`SPIKE_PROBABILITY`], a one-frame tracker spike
+    /// between the prompt being shown and the attempt's `start`: its frame
+    /// and reported value.
+    fn spike(&mut self, shown: f64, start: f64) -> Option<(usize, f32)> {
+        let window = self.frame(shown) + 3..self.frame(start).saturating_sub(3);
+        (self.rng.random_bool(SPIKE_PROBABILITY) && !window.is_empty()).then(|| {
             (
-                b.rng.random_range(spike_window),
-                b.rng.random_range(0.6..1.0) as f32,
+                self.rng.random_range(window),
+                self.rng.random_range(0.6..1.0) as f32,
             )
-        });
-        let attempt = b.frame(env.start)..b.frame(env.end());
-        prompts.push(PromptTrack {
-            shape,
-            shown: b.frame(shown),
-            true_peak: b.frame(env.peak_time()),
-            attempt,
-            failed_attempt,
-            spike,
-        });
-        previous_end = env.end();
-        t = env.peak_time() + ADVANCE_AFTER_PEAK;
-        if b.rng.random_bool(TRACKING_LOSS_PROBABILITY) {
-            let from = b.frame(env.end()) + 1;
-            tracking_lost.push(from..from + b.rng.random_range(5..20));
-            t = t.max((from + 25) as f64 / frame_rate);
-        }
+        })
     }
-    let tests =
-        crate::test_expressions::perform_tests(&mut b.rng, &mut t, frame_rate, &mut b.parts);
-    let frames = b.frame(t + 1.0);
+
+    /// With probability [`TRACKING_LOSS_PROBABILITY`], 5–20 untracked frames
+    /// just after the attempt `env`; the next prompt then waits until the
+    /// face has been tracked again for a while.
+    fn tracking_loss(&mut self, env: &Envelope) -> Option<Range<usize>> {
+        if !self.rng.random_bool(TRACKING_LOSS_PROBABILITY) {
+            return None;
+        }
+        let from = self.frame(env.end()) + 1;
+        let lost = from..from + self.rng.random_range(5..20);
+        self.clock = self.clock.max((from + 25) as f64 / self.frame_rate);
+        Some(lost)
+    }
+
+    /// Places the test expressions after the prompts.
+    fn perform_tests(&mut self) -> Vec<TestTrack> {
+        perform_tests(
+            &mut self.rng,
+            &mut self.clock,
+            self.frame_rate,
+            &mut self.score,
+        )
+    }
+}
+
+/// The true activations of every frame up to a second after `end` (s): the
+/// neutral hold's micro-activations plus the score, clamped to `[0, 1]`.
+fn true_activations(
+    neutral: &NeutralHold,
+    score: &Score,
+    end: f64,
+    frame_rate: f64,
+) -> Vec<[f64; BLENDSHAPE_COUNT]> {
+    let frames = frame_at(end + 1.0, frame_rate);
     let mut activations = vec![[0.0; BLENDSHAPE_COUNT]; frames];
-    for (f, a) in activations.iter_mut().enumerate() {
-        let time = f as f64 / frame_rate;
-        let fade = 1.0 - smoothstep(NEUTRAL_HOLD, NEUTRAL_HOLD + 0.5, time);
-        if fade > 0.0 {
-            for (shape, amount, phase) in &neutral_parts {
-                a[*shape] += fade * amount * (0.5 + 0.5 * (0.7 * time + phase).sin());
-            }
-        }
-    }
-    for (shape, env, scale) in &b.parts {
-        let from = b.frame(env.start);
-        let to = (b.frame(env.end()) + 1).min(frames);
-        for (f, a) in activations.iter_mut().enumerate().take(to).skip(from) {
-            a[*shape] += scale * env.at(f as f64 / frame_rate);
-        }
-    }
+    neutral.add_to(&mut activations, frame_rate);
+    score.add_to(&mut activations, frame_rate);
     for a in activations.iter_mut() {
         a.iter_mut().for_each(|x| *x = x.clamp(0.0, 1.0));
     }
-    // The true peak: the frame of the attempt where the requested activation
-    // (with everything else that moved it) is largest.
+    activations
+}
+
+/// Moves each prompt's true peak to the frame of its attempt where the
+/// requested activation (with everything else that moved it) is largest.
+fn locate_true_peaks(prompts: &mut [PromptTrack], activations: &[[f64; BLENDSHAPE_COUNT]]) {
     for p in prompts.iter_mut() {
         let j = p.shape.index();
         p.true_peak = p
@@ -357,17 +364,4 @@ pub fn perform_session(seed: u64, frame_rate: f64) -> Timeline {
             .max_by(|x, y| activations[*x][j].total_cmp(&activations[*y][j]))
             .unwrap_or(p.true_peak);
     }
-    Timeline {
-        frame_rate,
-        activations,
-        neutral_frame: b.frame(NEUTRAL_SCAN_AT),
-        prompts,
-        tests,
-        tracking_lost,
-    }
-}
-
-/// Draws an envelope (for the test expressions).
-pub(crate) fn draw_envelope(rng: &mut ChaCha8Rng, start: f64, peak: f64) -> Envelope {
-    Envelope::draw(rng, start, peak)
 }

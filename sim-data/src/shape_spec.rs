@@ -19,7 +19,7 @@
 
 use crate::regions::Region;
 use glam::DVec3;
-use likeness::{BLENDSHAPE_COUNT, Blendshape, arkit_names::Side};
+use likeness::{BLENDSHAPE_COUNT, Blendshape};
 
 /// One smooth local displacement.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -364,9 +364,4 @@ pub fn generic_specs() -> Vec<ShapeSpec> {
     let specs: Vec<ShapeSpec> = Blendshape::ALL.iter().map(|s| left_or_centre(*s)).collect();
     debug_assert_eq!(specs.len(), BLENDSHAPE_COUNT);
     specs
-}
-
-/// Whether `shape` is sided (has a mirror other than itself).
-pub fn is_sided(shape: Blendshape) -> bool {
-    shape.side() != Side::Centre
 }

@@ -6,7 +6,8 @@
 //! eyes wide + jaw drop; and so on. Each session performs 20–30 of them, at
 //! 60–100% of the recipe's intensity.
 
-use crate::performance::{TestTrack, draw_envelope};
+use crate::envelope::{Envelope, Score};
+use crate::timeline::{TestTrack, frame_at};
 use likeness::Blendshape;
 use rand::Rng;
 use rand::seq::SliceRandom;
@@ -311,13 +312,12 @@ pub const RECIPES: [Recipe; 32] = {
 };
 
 /// Performs 20–30 recipes, in random order, from time `t` (advanced past
-/// them); their envelopes are pushed onto `parts` as `(shape, envelope,
-/// amount)`.
+/// them), writing them into `score`; returns where each one peaks.
 pub(crate) fn perform_tests(
     rng: &mut ChaCha8Rng,
     t: &mut f64,
     frame_rate: f64,
-    parts: &mut Vec<(usize, crate::performance::Envelope, f64)>,
+    score: &mut Score,
 ) -> Vec<TestTrack> {
     let count = rng.random_range(TEST_COUNT.0..=TEST_COUNT.1);
     let mut book: Vec<&Recipe> = RECIPES.iter().collect();
@@ -326,15 +326,16 @@ pub(crate) fn perform_tests(
     for (id, recipe) in book.into_iter().take(count) {
         let start = *t + rng.random_range(0.5..0.9);
         let intensity = rng.random_range(0.6..1.0);
-        let env = draw_envelope(rng, start, 1.0);
-        for (shape, amount) in recipe.iter() {
-            if *amount > 0.0 {
-                parts.push((shape.index(), env, amount * intensity));
-            }
-        }
+        let env = Envelope::draw(rng, start, 1.0);
+        let shapes: Vec<(usize, f64)> = recipe
+            .iter()
+            .filter(|(_, amount)| *amount > 0.0)
+            .map(|(shape, amount)| (shape.index(), amount * intensity))
+            .collect();
+        score.perform(&shapes, env);
         tests.push(TestTrack {
             id: id.to_string(),
-            frame: (env.peak_time() * frame_rate).round() as usize,
+            frame: frame_at(env.peak_time(), frame_rate),
         });
         *t = env.end() + 0.1;
     }

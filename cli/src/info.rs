@@ -1,7 +1,8 @@
 //! `likeness info`: what a session file holds.
 
 use crate::CliResult;
-use likeness::{Session, session_file};
+use likeness::Session;
+use likeness::session::file as session_file;
 use serde::Serialize;
 use std::path::Path;
 

@@ -1,8 +1,8 @@
 //! `likeness import` / `likeness export`: a session as a folder of OBJ and
-//! CSV files (layout in `likeness::interchange`).
+//! CSV files (layout in `likeness::session::interchange`).
 
 use crate::CliResult;
-use likeness::{interchange, session_file};
+use likeness::session::{file as session_file, interchange};
 use std::path::Path;
 
 /// `likeness import DIR --out FILE`: reads an interchange folder and writes

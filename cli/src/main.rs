@@ -50,8 +50,8 @@ enum Command {
         /// The session file.
         file: PathBuf,
         /// dt, ebfr, paper, paper-cv or multi.
-        #[arg(long, default_value_t = likeness::personalization::Method::DEFAULT)]
-        method: likeness::personalization::Method,
+        #[arg(long, default_value_t = likeness::personalize::Method::DEFAULT)]
+        method: likeness::personalize::Method,
         /// Folder for the OBJ files (created if missing).
         #[arg(long)]
         out: PathBuf,

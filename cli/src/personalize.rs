@@ -2,9 +2,10 @@
 
 use crate::CliResult;
 use crate::info::read_session;
-use likeness::evaluation::{MeanErrors, evaluate, mean_errors};
-use likeness::obj_export::write_obj;
-use likeness::personalization::{Method, lambda_sweep, personalize};
+use likeness::io::obj_writer::write_obj;
+use likeness::personalize::evaluation::{MeanErrors, evaluate, mean_errors};
+use likeness::personalize::personalization::lambda_sweep;
+use likeness::personalize::{FitFrames, Method, personalize};
 use likeness::{Blendshape, Session};
 use serde::Serialize;
 use serde_json::{Map, Value, json};
@@ -25,15 +26,9 @@ pub fn personalize_command(file: &Path, method: Method, out: &Path) -> CliResult
         write_obj(&path, &session.topology, positions, &comment)
             .map_err(|e| format!("{}: {e}", path.display()))
     };
-    write("neutral", &result.neutral)?;
+    write("neutral", result.shapes.neutral())?;
     for shape in Blendshape::ALL {
-        let positions: Vec<_> = result
-            .neutral
-            .iter()
-            .zip(&result.deltas[shape.index()])
-            .map(|(p, d)| *p + *d)
-            .collect();
-        write(shape.name(), &positions)?;
+        write(shape.name(), &result.shapes.shape(shape))?;
     }
     eprintln!(
         "wrote 53 OBJ files to {} ({} method, {:.1} ms)",
@@ -93,7 +88,8 @@ const TIMING_RUNS: usize = 5;
 fn timed(
     session: &Session,
     method: Method,
-) -> Result<(likeness::personalization::Personalized, f64), Box<dyn std::error::Error>> {
+) -> Result<(likeness::personalize::personalization::Personalized, f64), Box<dyn std::error::Error>>
+{
     let mut times = Vec::with_capacity(TIMING_RUNS);
     let mut result = None;
     for _ in 0..TIMING_RUNS {
@@ -143,18 +139,15 @@ pub fn evaluation_report(
         }
         for runs in per_method.iter_mut() {
             let (result, ms) = timed(&session, runs.method)?;
-            runs.means.push(mean_errors(&evaluate(
-                &result.neutral,
-                &result.deltas,
-                &session,
-            )));
+            runs.means
+                .push(mean_errors(&evaluate(&result.shapes, &session)));
             runs.times.push(ms);
             runs.lambdas.extend(result.lambda);
             progress.inc(1);
         }
-        let (neutral, sweep) = lambda_sweep(&session, false, &STUDY_GRID)?;
-        for (k, (_, deltas)) in sweep.iter().enumerate() {
-            curve[k].push(mean_errors(&evaluate(&neutral, deltas, &session)));
+        let sweep = lambda_sweep(&session, FitFrames::Captures, &STUDY_GRID)?;
+        for (k, fit) in sweep.iter().enumerate() {
+            curve[k].push(mean_errors(&evaluate(&fit.shapes, &session)));
         }
     }
     progress.finish_and_clear();

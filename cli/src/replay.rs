@@ -2,8 +2,8 @@
 //! as the app would feed it live.
 
 use crate::CliResult;
-use likeness::guided_capture::{GuidedCaptureConfig, Step};
-use likeness::replay::{ReplayReport, ReplayedStep, replay_frames, replay_session};
+use likeness::capture::guided_capture::{GuidedCaptureConfig, Step};
+use likeness::capture::replay::{ReplayReport, ReplayedStep, replay_frames, replay_session};
 use serde::Serialize;
 use std::io::Read;
 use std::path::Path;
@@ -46,7 +46,7 @@ pub fn replay_command(file: &Path, json: bool) -> CliResult {
         let mut head = [0u8; 8];
         let mut f = std::fs::File::open(file)
             .map_err(|e| format!("cannot open {}: {e}", file.display()))?;
-        f.read_exact(&mut head).is_ok() && head == likeness::session_file::MAGIC
+        f.read_exact(&mut head).is_ok() && head == likeness::session::file::MAGIC
     };
     let config = GuidedCaptureConfig::default();
     let (input, report, elapsed) = if is_session {
@@ -55,7 +55,7 @@ pub fn replay_command(file: &Path, json: bool) -> CliResult {
         let report = replay_session(session, config)?;
         ("session", report, start.elapsed())
     } else {
-        let frames = likeness::interchange::read_frames(file)?;
+        let frames = likeness::session::interchange::read_frames(file)?;
         let start = Instant::now();
         let report = replay_frames(frames, config, |_| None)?;
         ("weights-csv", report, start.elapsed())

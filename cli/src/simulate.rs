@@ -3,7 +3,8 @@
 use crate::CliResult;
 use crate::info::{Summary, print_summary};
 use crate::progress::bar;
-use likeness::{Session, session_file};
+use likeness::Session;
+use likeness::session::file as session_file;
 use likeness_sim::SimulationOptions;
 use std::path::Path;
 

@@ -211,7 +211,7 @@ mod live_link;
 fn replay_reads_a_live_link_face_csv_and_names_bad_lines() {
     let dir = std::env::temp_dir().join(format!("likeness-cli-replay-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let session = likeness::session_file::read(sample()).unwrap();
+    let session = likeness::session::file::read(sample()).unwrap();
     let csv = dir.join("take.csv");
     std::fs::write(&csv, live_link::live_link_csv(&session.frames)).unwrap();
     let out = likeness(&["replay", csv.to_str().unwrap(), "--json"]);

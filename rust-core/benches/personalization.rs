@@ -5,10 +5,10 @@
 //! `cargo bench -p likeness --bench personalization`; no time is asserted.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use likeness::blendshape_fit::{BlendshapeFit, Observation};
-use likeness::personalization::{Method, generic_blendshapes, personalize};
-use likeness::regularization_weights::regularization_weights;
-use likeness::session_file::decode;
+use likeness::personalize::blendshape_fit::{BlendshapeFit, Observation};
+use likeness::personalize::regularization_weights::regularization_weights;
+use likeness::personalize::{Method, generic_blendshapes, personalize};
+use likeness::session::file::decode;
 use std::hint::black_box;
 use std::time::Duration;
 
@@ -32,7 +32,8 @@ fn personalization(c: &mut Criterion) {
     });
     let generic = generic_blendshapes(&session).expect("transfers");
     let weights: Vec<Vec<f64>> = generic
-        .deltas
+        .shapes
+        .deltas()
         .iter()
         .map(|t| regularization_weights(t))
         .collect();
@@ -47,14 +48,7 @@ fn personalization(c: &mut Criterion) {
         .collect();
     group.bench_function("fit (λ = 1, assembly + 1,220 solves)", |b| {
         b.iter(|| {
-            BlendshapeFit::new(
-                &generic.neutral,
-                &generic.deltas,
-                &weights,
-                &[true; 52],
-                &observations,
-            )
-            .solve(1.0)
+            BlendshapeFit::new(&generic.shapes, &weights, &[true; 52], &observations).solve(1.0)
         })
     });
     group.finish();

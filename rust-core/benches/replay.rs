@@ -7,9 +7,9 @@
 //! `cargo bench -p likeness --bench replay`; no time is asserted.
 
 use criterion::{BatchSize, Criterion, criterion_group, criterion_main};
-use likeness::guided_capture::GuidedCaptureConfig;
-use likeness::replay::replay_session;
-use likeness::session_file::decode;
+use likeness::capture::guided_capture::GuidedCaptureConfig;
+use likeness::capture::replay::replay_session;
+use likeness::session::file::decode;
 
 fn replay(c: &mut Criterion) {
     let path = concat!(
@@ -18,7 +18,7 @@ fn replay(c: &mut Criterion) {
     );
     let bytes = std::fs::read(path).expect("the committed sample session exists");
     let recorded = decode(&bytes).expect("the sample decodes");
-    let mut every_mesh = recorded.clone();
+    let mut every_mesh = recorded.clone().into_parts();
     let mut last = recorded.neutral.clone();
     for frame in every_mesh.frames.iter_mut() {
         match &frame.vertices {
@@ -26,6 +26,7 @@ fn replay(c: &mut Criterion) {
             None => frame.vertices = Some(last.clone()),
         }
     }
+    let every_mesh = likeness::Session::new(every_mesh).expect("still a valid session");
     let mut group = c.benchmark_group("replay");
     group.sample_size(20);
     for (name, session) in [

@@ -8,7 +8,7 @@
 //! `cargo bench -p likeness --bench session_file`.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use likeness::session_file::{decode, encode};
+use likeness::session::file::{decode, encode};
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 

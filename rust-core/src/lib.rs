@@ -3,38 +3,39 @@
 //! Personalization for Faithful Face Animations Using Commodity Smartphones*
 //! (VRST 2022).
 //!
-//! The pipeline runs one way: capture (§3.1) → [`session_file`] →
-//! personalization (§3.2) → avatar transfer (§3.3) → export. This crate holds
-//! every algorithm and every decision; it has no FFI and no command-line
+//! The pipeline runs one way, and the crate's folders follow it:
+//!
+//! | stage | paper | folder |
+//! |---|---|---|
+//! | ARKit's 52 names, weights and blendshape sets | §3.1 | [`arkit`] |
+//! | meshes, eye holes, deformation gradients and transfer | §3.2 (ref. 47), §3.3 | [`geometry`] |
+//! | atomic writes, OBJ in and out | | [`io`] |
+//! | the session model, its binary file and OBJ + CSV folders | §3.1 | [`session`] |
+//! | peak detection and the guided capture | §3.1 | [`capture`] |
+//! | personalized blendshapes, baselines and evaluation | §3.2, §4.1 | [`personalize`] |
+//!
+//! A folder uses only the folders above it in this table (a test in
+//! `rust-core/tests/module_layers.rs` checks it). This crate holds every
+//! algorithm and every decision; it has no FFI and no command-line
 //! dependencies, so it stays small on the phone.
 
 #![warn(missing_docs)]
 
-pub mod arkit_names;
-pub mod atomic_write;
-pub mod blendshape_fit;
-pub mod deformation_gradient;
-pub mod deformation_transfer;
-pub mod ebfr;
-pub mod evaluation;
-pub mod frame_selection;
-pub mod guided_capture;
-pub mod interchange;
-pub mod lambda_selection;
-pub mod mesh_boundary;
-pub mod obj_export;
-pub mod peak_detector;
-pub mod personalization;
-pub mod prompt_order;
-pub mod regularization_weights;
-pub mod replay;
+pub mod arkit;
+pub mod capture;
+pub mod geometry;
+pub mod io;
+pub mod personalize;
 pub mod session;
-pub mod session_file;
-pub mod topology;
 
-pub use arkit_names::{BLENDSHAPE_COUNT, Blendshape, UnknownBlendshape, Weights};
-pub use session::{
-    CapturedExpression, DeviceInfo, Frame, GroundTruth, Session, SessionError, Template,
-    TestExpression,
+#[cfg(test)]
+mod test_support;
+
+pub use arkit::{
+    BLENDSHAPE_COUNT, Blendshape, Blendshapes, BlendshapesError, UnknownBlendshape, Weights,
 };
-pub use topology::{GeometryError, Topology, TopologyError};
+pub use geometry::{GeometryError, Topology, TopologyError};
+pub use session::{
+    CapturedExpression, DeviceInfo, Frame, GroundTruth, Session, SessionError, SessionParts,
+    Template, TestExpression, TruePeak,
+};

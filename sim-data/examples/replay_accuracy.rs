@@ -6,8 +6,8 @@
 //! histogram of capture − true peak (frames) for prompts and for tests, the
 //! steps skipped and the quality flags raised.
 
-use likeness::guided_capture::{GuidedCaptureConfig, Step};
-use likeness::replay::replay_session;
+use likeness::capture::guided_capture::{GuidedCaptureConfig, Step};
+use likeness::capture::replay::replay_session;
 use likeness_sim::capture_session::{SimulationOptions, simulate_session_with};
 use std::collections::BTreeMap;
 

@@ -22,7 +22,7 @@ use crate::tracker::Tracker;
 use glam::Vec3;
 use likeness::{
     BLENDSHAPE_COUNT, Blendshape, CapturedExpression, DeviceInfo, Frame, GroundTruth, Session,
-    TestExpression, Weights,
+    SessionParts, TestExpression, TruePeak, Weights,
 };
 
 /// Version of the simulation model, recorded in every session it makes; bump
@@ -85,7 +85,7 @@ pub fn simulate_session_with(
     }
     debug_assert_eq!(neutral_frame, frame_at(NEUTRAL_SCAN_AT, FRAME_RATE));
     let truth = ground_truth(seed, &subject, &timeline, true_captures, &true_faces);
-    Session {
+    let parts = SessionParts {
         device: simulated_device(seed),
         frame_rate: FRAME_RATE as f32,
         topology: mask.topology.clone(),
@@ -95,7 +95,11 @@ pub fn simulate_session_with(
         captures,
         tests,
         truth: Some(truth),
-    }
+    };
+    // Every mesh comes from the mask's own topology and every value from
+    // finite arithmetic: a failure here is a bug in the simulator, not bad
+    // input, and the physics tests exercise every seed they draw.
+    Session::new(parts).expect("the simulator makes valid sessions")
 }
 
 /// What the phone recorded, frame by frame, with the noise-free faces the
@@ -250,13 +254,13 @@ fn ground_truth(
         peak_frames: timeline
             .prompts
             .iter()
-            .map(|p| (p.shape, p.true_peak as u32))
+            .map(|p| TruePeak {
+                prompt: p.shape,
+                frame: p.true_peak as u32,
+            })
             .collect(),
         neutral: to_f32(&subject.model.neutral),
-        blendshapes: Blendshape::ALL
-            .iter()
-            .map(|s| to_f32(&subject.model.shape(*s)))
-            .collect(),
+        blendshapes: Blendshape::ALL.map(|s| to_f32(&subject.model.shape(s))),
         captures: true_captures,
         tests: timeline
             .tests

@@ -26,9 +26,6 @@ pub fn generic_template() -> Template {
     let model = generic_model();
     Template {
         neutral: to_f32(&model.neutral),
-        shapes: Blendshape::ALL
-            .iter()
-            .map(|s| to_f32(&model.shape(*s)))
-            .collect(),
+        shapes: Blendshape::ALL.map(|s| to_f32(&model.shape(s))),
     }
 }

@@ -149,7 +149,9 @@ fn the_jaw_is_a_rotation_not_a_linear_shape() {
 #[test]
 fn a_session_is_valid_finite_and_complete() {
     let s = session();
-    s.validate().expect("valid session");
+    // A `Session` exists only once its parts passed every check; checking
+    // the parts again must agree.
+    assert_eq!(Session::new(s.clone().into_parts()).as_ref(), Ok(s));
     assert_eq!(s.captures.len(), 52);
     assert!((20..=30).contains(&s.tests.len()));
     assert!(

@@ -1,7 +1,7 @@
 //! The committed sample sessions are exactly what the simulator makes from
 //! their seeds, and they fit the repository's budget.
 
-use likeness::session_file;
+use likeness::session::file as session_file;
 use likeness_sim::{SAMPLE_GEOMETRY_WINDOW, SimulationOptions};
 use std::path::PathBuf;
 

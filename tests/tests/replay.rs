@@ -7,8 +7,8 @@
 
 mod support;
 
-use likeness::guided_capture::{GuidedCaptureConfig, Step};
-use likeness::replay::{ReplayReport, replay_frames, replay_session};
+use likeness::capture::guided_capture::{GuidedCaptureConfig, Step};
+use likeness::capture::replay::{ReplayReport, replay_frames, replay_session};
 use support::live_link::live_link_csv;
 
 fn committed(seed: u64) -> likeness::Session {
@@ -16,7 +16,7 @@ fn committed(seed: u64) -> likeness::Session {
         "{}/../sim-data/sessions/subject-{seed}.likeness",
         env!("CARGO_MANIFEST_DIR")
     );
-    likeness::session_file::read(path).expect("committed session")
+    likeness::session::file::read(path).expect("committed session")
 }
 
 fn prompt_errors(report: &ReplayReport) -> Vec<i64> {
@@ -69,7 +69,7 @@ fn a_live_link_face_export_of_the_weights_replays_within_two_frames() {
     let truth = session.truth.clone().expect("simulated");
     let path = std::env::temp_dir().join(format!("likeness-replay-{}.csv", std::process::id()));
     std::fs::write(&path, live_link_csv(&session.frames)).unwrap();
-    let frames = likeness::interchange::read_frames(&path).unwrap();
+    let frames = likeness::session::interchange::read_frames(&path).unwrap();
     std::fs::remove_file(&path).unwrap();
     assert_eq!(frames.len(), session.frames.len());
     let report = replay_frames(frames, GuidedCaptureConfig::default(), |step| match step {

@@ -13,7 +13,7 @@
 use glam::Vec3;
 use likeness::{
     BLENDSHAPE_COUNT, Blendshape, CapturedExpression, DeviceInfo, Frame, GroundTruth, Session,
-    Template, TestExpression, Topology, Weights,
+    SessionParts, Template, TestExpression, Topology, TruePeak, Weights,
 };
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -176,13 +176,13 @@ pub fn session() -> Session {
         peak_frames: Blendshape::ALL
             .iter()
             .zip(&peaks)
-            .map(|(&s, &k)| (s, k as u32))
+            .map(|(&prompt, &k)| TruePeak {
+                prompt,
+                frame: k as u32,
+            })
             .collect(),
         neutral: to_mesh(&neutral),
-        blendshapes: deltas
-            .iter()
-            .map(|d| to_mesh(&add(&neutral, d, 1.0)))
-            .collect(),
+        blendshapes: std::array::from_fn(|j| to_mesh(&add(&neutral, &deltas[j], 1.0))),
         captures: peaks
             .iter()
             .map(|&k| to_mesh(&mesh_at(k as f64 / FPS, &weights_at(k as f64 / FPS), false)))
@@ -194,7 +194,7 @@ pub fn session() -> Session {
             .collect(),
         test_activations: tests.iter().map(|t| t.weights).collect(),
     };
-    Session {
+    let parts = SessionParts {
         device: DeviceInfo {
             model: "likeness-bench".into(),
             system_version: "synthetic".into(),
@@ -205,17 +205,15 @@ pub fn session() -> Session {
         topology: grid_topology(),
         template: Template {
             neutral: to_mesh(&base),
-            shapes: deltas
-                .iter()
-                .map(|d| to_mesh(&add(&base, d, 1.0)))
-                .collect(),
+            shapes: std::array::from_fn(|j| to_mesh(&add(&base, &deltas[j], 1.0))),
         },
         neutral: to_mesh(&neutral),
         frames,
         captures,
         tests,
         truth: Some(truth),
-    }
+    };
+    Session::new(parts).expect("the synthetic session is consistent")
 }
 
 /// Bytes of f32 and f64 data the session holds in memory (positions,

@@ -1,0 +1,18 @@
+//! Geometry shared by the pipeline's stages: mesh connectivity, boundary
+//! loops and the eye-hole triangles, deformation gradients, and deformation
+//! transfer. Nothing here knows about sessions or captures; the stages
+//! (personalization today, the avatar transfer next) call it with meshes.
+//!
+//! | paper | what | file |
+//! |---|---|---|
+//! | §3.1, `n = 1220`, 2304 triangles | triangle lists checked against vertex counts | [`topology`] |
+//! | §3.2, virtual eye triangles (Saito 2013) | boundary loops, eye holes spanned lid to lid | [`mesh_boundary`] |
+//! | §3.2 (ref. 47) | per-triangle deformation gradients (Sumner & Popović 2004) | [`deformation_gradient`] |
+//! | §3.2 (ref. 47), §3.3 | gradient-domain deformation transfer (Botsch et al. 2006), lid contacts, translation | [`deformation_transfer`] |
+
+pub mod deformation_gradient;
+pub mod deformation_transfer;
+pub mod mesh_boundary;
+pub mod topology;
+
+pub use topology::{GeometryError, Topology, TopologyError};

@@ -1,0 +1,336 @@
+//! §3.2, Eq. (1)–(2): the regularized fit of personalized blendshapes.
+//!
+//! Minimize over the delta blendshapes `B_1 … B_m`
+//!
+//! ```text
+//! E = Σ_i c_i ‖B_0 + Σ_j w_ij B_j − S_i‖²  +  λ Σ_j ‖D_j (B_j − T_j)‖²
+//! ```
+//!
+//! where `S_i` are observed meshes with tracked weights `w_i` (the captured
+//! expressions; for the `multi` method also frames around them, with
+//! importances `c_i`), `T_j` the generic blendshapes transferred to `B_0`,
+//! and `D_j` the weights of Eq. (3). The paper's energy is `λ = 1`,
+//! `c_i = 1`.
+//!
+//! Neither term couples vertices, so the normal equations split into one
+//! small system per vertex `v`, with three right-hand sides (x, y, z):
+//!
+//! ```text
+//! (Wᵀ C W + λ D_v²) b_v = Wᵀ C r_v + λ D_v² t_v
+//! ```
+//!
+//! `Wᵀ C W` (m × m) is the same for every vertex and is formed once; only
+//! the diagonal `λ D_v²` changes, so each vertex costs one m × m Cholesky
+//! factorization. Shapes that were not captured are not unknowns: they keep
+//! their generic shape `T_j` and their contribution is moved to the data side.
+
+use super::error::PersonalizeError;
+use crate::arkit::{BLENDSHAPE_COUNT, Blendshapes};
+use faer::{Mat, Par};
+use glam::{DVec3, Vec3};
+
+/// One observed expression: tracked weights and mesh, and its importance.
+#[derive(Clone, Copy, Debug)]
+pub struct Observation<'a> {
+    /// The 52 tracked weights `w_i`.
+    pub weights: [f64; BLENDSHAPE_COUNT],
+    /// The tracked mesh `S_i`.
+    pub vertices: &'a [Vec3],
+    /// Importance `c_i` of this observation in `E_fit` (1 for a capture).
+    pub importance: f64,
+}
+
+/// A fit failed: the per-vertex system is not positive definite (possible
+/// only with λ = 0 and too few observations).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error(
+    "the fit at vertex {vertex} is singular (λ = {lambda}); too few observations for an unregularized fit"
+)]
+pub struct SingularFit {
+    /// The vertex whose system failed.
+    pub vertex: usize,
+    /// The λ used.
+    pub lambda: f64,
+}
+
+/// The assembled fit, reusable for several λ.
+pub struct BlendshapeFit<'a> {
+    generic: &'a Blendshapes,
+    /// Squared Eq. (3) weights, `d2[v * m + j]`.
+    d2: Vec<f64>,
+    /// The unknown shapes (the captured prompts), in Apple's order.
+    captured: Vec<usize>,
+    /// `Wᵀ C W` over the captured shapes.
+    gram: Mat<f64>,
+    /// `Wᵀ C r` over the captured shapes: row = shape, column = 3v + axis.
+    cross: Mat<f64>,
+}
+
+impl<'a> BlendshapeFit<'a> {
+    /// Assembles the fit of the shapes flagged in `captured` (the others
+    /// keep their generic shape) to `observations` of a face whose neutral
+    /// `B_0` and generic deltas `T_j` are `generic`, with Eq. (3) weights
+    /// `weights` (`D_j`, 52 fields).
+    pub fn new(
+        generic: &'a Blendshapes,
+        weights: &[Vec<f64>],
+        captured: &[bool; BLENDSHAPE_COUNT],
+        observations: &[Observation<'_>],
+    ) -> BlendshapeFit<'a> {
+        let neutral = generic.neutral();
+        let n = neutral.len();
+        let free: Vec<usize> = (0..BLENDSHAPE_COUNT).filter(|j| captured[*j]).collect();
+        let fixed: Vec<usize> = (0..BLENDSHAPE_COUNT)
+            .filter(|j| !free.contains(j))
+            .collect();
+        let k = free.len();
+        let m = observations.len();
+        // W (m × k) scaled by √c_i, and residuals r_i = S_i − B_0 − Σ_fixed w_ij T_j.
+        let w = Mat::from_fn(m, k, |i, a| {
+            observations[i].importance.sqrt() * observations[i].weights[free[a]]
+        });
+        let r = Mat::from_fn(m, 3 * n, |i, c| {
+            let (v, axis) = (c / 3, c % 3);
+            let o = &observations[i];
+            let mut x = o.vertices[v].as_dvec3()[axis] - neutral[v][axis];
+            for &j in &fixed {
+                x -= o.weights[j] * generic.deltas()[j][v][axis];
+            }
+            o.importance.sqrt() * x
+        });
+        let gram = w.transpose() * &w;
+        let cross = w.transpose() * &r;
+        let mut d2 = vec![0.0; n * BLENDSHAPE_COUNT];
+        for (j, dj) in weights.iter().enumerate() {
+            for (v, d) in dj.iter().enumerate() {
+                d2[v * BLENDSHAPE_COUNT + j] = d * d;
+            }
+        }
+        BlendshapeFit {
+            generic,
+            d2,
+            captured: free,
+            gram,
+            cross,
+        }
+    }
+
+    /// Solves for regularization strength `λ` (the paper: 1). Returns `B₀`
+    /// and the 52 personalized delta blendshapes; shapes that were not
+    /// captured are their generic `T_j`.
+    pub fn solve(&self, lambda: f64) -> Result<Blendshapes, PersonalizeError> {
+        let n = self.cross.ncols() / 3;
+        let generic = self.generic.deltas();
+        let mut out: Vec<Vec<DVec3>> = generic.to_vec();
+        let free = &self.captured;
+        let k = free.len();
+        let x = solve_shared_gram(
+            &self.gram,
+            n,
+            3,
+            |v, a| lambda * self.d2[v * BLENDSHAPE_COUNT + free[a]],
+            |v, a, axis| self.cross[(a, 3 * v + axis)],
+            |v, a, axis| generic[free[a]][v][axis],
+        )
+        .map_err(|vertex| SingularFit { vertex, lambda })?;
+        for v in 0..n {
+            for (a, &j) in free.iter().enumerate() {
+                let b = &x[(v * k + a) * 3..(v * k + a) * 3 + 3];
+                out[j][v] = DVec3::new(b[0], b[1], b[2]);
+            }
+        }
+        Ok(self.generic.with_deltas(out)?)
+    }
+}
+
+/// Solves, for every element `e` of `count` (a vertex here, a triangle in
+/// EBFR), the `k × k` ridge system with `r` right-hand sides
+///
+/// ```text
+/// (G + diag(s_e)) X_e = C_e + diag(s_e) P_e
+/// ```
+///
+/// where the Gram matrix `G` is shared and only the diagonal `s_e` (the
+/// regularization weights, `s_e[a] = diagonal(e, a)`) changes. `C_e` is
+/// `cross(e, a, c)` and the prior `P_e` is `prior(e, a, c)`. Returns the
+/// solutions, entry `(e, a, c)` at `(e·k + a)·r + c`, or the first element
+/// whose system is not positive definite. The elements are independent, so
+/// they are split over the machine's cores; each factorization is faer's
+/// in-place Cholesky, with no allocation per element.
+pub(crate) fn solve_shared_gram(
+    gram: &Mat<f64>,
+    count: usize,
+    r: usize,
+    diagonal: impl Fn(usize, usize) -> f64 + Sync,
+    cross: impl Fn(usize, usize, usize) -> f64 + Sync,
+    prior: impl Fn(usize, usize, usize) -> f64 + Sync,
+) -> Result<Vec<f64>, usize> {
+    use faer::dyn_stack::{MemBuffer, MemStack};
+    use faer::linalg::cholesky::llt;
+    let k = gram.nrows();
+    let solve_range = |range: std::ops::Range<usize>| -> Result<Vec<f64>, usize> {
+        let mut out = Vec::with_capacity(range.len() * k * r);
+        let mut system = Mat::<f64>::zeros(k, k);
+        let mut rhs = Mat::<f64>::zeros(k, r);
+        let scratch =
+            llt::factor::cholesky_in_place_scratch::<f64>(k, Par::Seq, Default::default());
+        let mut buffer = MemBuffer::new(scratch);
+        let stack = MemStack::new(&mut buffer);
+        for e in range {
+            system.copy_from(gram);
+            for a in 0..k {
+                let s = diagonal(e, a);
+                system[(a, a)] += s;
+                for c in 0..r {
+                    rhs[(a, c)] = cross(e, a, c) + s * prior(e, a, c);
+                }
+            }
+            llt::factor::cholesky_in_place(
+                system.as_mut(),
+                Default::default(),
+                Par::Seq,
+                stack,
+                Default::default(),
+            )
+            .map_err(|_| e)?;
+            llt::solve::solve_in_place(system.as_ref(), rhs.as_mut(), Par::Seq, stack);
+            for a in 0..k {
+                for c in 0..r {
+                    out.push(rhs[(a, c)]);
+                }
+            }
+        }
+        Ok(out)
+    };
+    let threads = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .clamp(1, 8)
+        .min(count.max(1));
+    let chunk = count.div_ceil(threads);
+    let parts: Vec<Result<Vec<f64>, usize>> = std::thread::scope(|scope| {
+        let handles: Vec<_> = (0..threads)
+            .map(|t| {
+                let range = (t * chunk).min(count)..((t + 1) * chunk).min(count);
+                scope.spawn(move || solve_range(range))
+            })
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| h.join().unwrap_or(Err(0)))
+            .collect()
+    });
+    let mut out = Vec::with_capacity(count * k * r);
+    for part in parts {
+        out.extend(part?);
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn shapes(n: usize, seed: f64) -> Vec<Vec<DVec3>> {
+        (0..BLENDSHAPE_COUNT)
+            .map(|j| {
+                (0..n)
+                    .map(|v| {
+                        let x = (j * 7 + v * 3) as f64 + seed;
+                        DVec3::new(x.sin(), (1.3 * x).cos(), (0.7 * x).sin()) * 1e-3
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+
+    fn render(neutral: &[DVec3], deltas: &[Vec<DVec3>], w: &[f64; 52]) -> Vec<Vec3> {
+        (0..neutral.len())
+            .map(|v| (neutral[v] + (0..52).map(|j| w[j] * deltas[j][v]).sum::<DVec3>()).as_vec3())
+            .collect()
+    }
+
+    /// 52 captures: a dominant prompted weight plus co-activation.
+    fn capture_weights() -> Vec<[f64; 52]> {
+        (0..52)
+            .map(|i| {
+                std::array::from_fn(|j| {
+                    if i == j {
+                        0.9
+                    } else {
+                        0.03 * (((i * 31 + j * 17) % 7) as f64) / 7.0
+                    }
+                })
+            })
+            .collect()
+    }
+
+    fn captures<'a>(ws: &[[f64; 52]], meshes: &'a [Vec<Vec3>]) -> Vec<Observation<'a>> {
+        ws.iter()
+            .zip(meshes)
+            .map(|(w, m)| Observation {
+                weights: *w,
+                vertices: m,
+                importance: 1.0,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn without_regularization_a_linear_subject_is_recovered_exactly() {
+        let n = 20;
+        let neutral: Vec<DVec3> = (0..n).map(|v| DVec3::splat(v as f64 * 0.01)).collect();
+        let truth = shapes(n, 0.0);
+        let generic = Blendshapes::new(neutral.clone(), shapes(n, 1.0)).unwrap();
+        let d = vec![vec![1.0; n]; 52];
+        let ws = capture_weights();
+        let meshes: Vec<Vec<Vec3>> = ws.iter().map(|w| render(&neutral, &truth, w)).collect();
+        let obs = captures(&ws, &meshes);
+        let fit = BlendshapeFit::new(&generic, &d, &[true; 52], &obs);
+        let b = fit.solve(1e-12).unwrap();
+        assert_eq!(b.neutral(), neutral.as_slice());
+        for (bj, tj) in b.deltas().iter().zip(&truth) {
+            for (x, y) in bj.iter().zip(tj) {
+                // f32 meshes: exact up to single-precision rounding.
+                assert!((*x - *y).length() < 1e-7, "{x} vs {y}");
+            }
+        }
+        // With the regularizer, a subject whose shapes ARE the generic ones
+        // is still recovered exactly (both energy terms vanish).
+        let meshes: Vec<Vec<Vec3>> = ws
+            .iter()
+            .map(|w| render(&neutral, generic.deltas(), w))
+            .collect();
+        let obs = captures(&ws, &meshes);
+        let b = BlendshapeFit::new(&generic, &d, &[true; 52], &obs)
+            .solve(1.0)
+            .unwrap();
+        for (bj, tj) in b.deltas().iter().zip(generic.deltas()) {
+            for (x, y) in bj.iter().zip(tj) {
+                assert!((*x - *y).length() < 1e-7);
+            }
+        }
+    }
+
+    #[test]
+    fn strong_regularization_returns_the_generic_shapes_and_uncaptured_shapes_stay_generic() {
+        let n = 5;
+        let neutral = vec![DVec3::ZERO; n];
+        let truth = shapes(n, 0.0);
+        let generic = Blendshapes::new(neutral.clone(), shapes(n, 2.0)).unwrap();
+        let ws = capture_weights();
+        let meshes: Vec<Vec<Vec3>> = ws.iter().map(|w| render(&neutral, &truth, w)).collect();
+        let obs = captures(&ws, &meshes);
+        let mut captured = [true; 52];
+        captured[3] = false;
+        let d = vec![vec![1e5; n]; 52];
+        let b = BlendshapeFit::new(&generic, &d, &captured, &obs)
+            .solve(1.0)
+            .unwrap();
+        assert_eq!(b.deltas()[3], generic.deltas()[3]);
+        for (bj, tj) in b.deltas().iter().zip(generic.deltas()) {
+            for (x, y) in bj.iter().zip(tj) {
+                assert!((*x - *y).length() < 1e-9);
+            }
+        }
+    }
+}

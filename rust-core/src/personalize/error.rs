@@ -1,0 +1,31 @@
+//! Why a session cannot be personalized: one error for every method.
+//!
+//! A [`Session`](crate::Session) is checked when it is made, so nothing here
+//! is about contradictory input: these are the failures of the methods
+//! themselves.
+
+use super::blendshape_fit::SingularFit;
+use crate::arkit::BlendshapesError;
+use crate::geometry::deformation_transfer::TransferError;
+use crate::geometry::mesh_boundary::EyeHoleError;
+
+/// Why a session cannot be personalized.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum PersonalizeError {
+    /// The mask's eye holes could not be found.
+    #[error("template: {0}")]
+    EyeHoles(#[from] EyeHoleError),
+    /// Deformation transfer failed.
+    #[error("deformation transfer: {0}")]
+    Transfer(#[from] TransferError),
+    /// A per-vertex fit was singular.
+    #[error(transparent)]
+    Fit(#[from] SingularFit),
+    /// A method produced shapes that are not a valid set (a non-finite
+    /// coordinate): refused rather than passed on to export.
+    #[error("personalized blendshapes: {0}")]
+    Shapes(#[from] BlendshapesError),
+    /// Nothing was captured, so there is nothing to personalize from.
+    #[error("the session has no captured expressions")]
+    NoCaptures,
+}

@@ -1,0 +1,180 @@
+//! §3.2: from a capture session to the person's own 52 blendshapes.
+//!
+//! Every method starts the same way: the generic template is carried onto
+//! the person's neutral scan `B₀` by deformation transfer (virtual triangles
+//! close the eye holes), giving the generic blendshapes `T_j`. Then:
+//!
+//! | method | blendshapes |
+//! |---|---|
+//! | `dt` | `B_j = T_j` (Sumner & Popović 2004; the paper's DT baseline) |
+//! | `ebfr` | Li, Weise & Pauly 2010, blendshape step with known weights ([`crate::personalize::ebfr`]) |
+//! | `paper` | Eq. (1)–(3) literally: `E_fit + E_reg` ([`crate::personalize::blendshape_fit`]) |
+//! | `paper-cv` | `E_fit + λ·E_reg`, λ chosen per session on held-out stream frames ([`crate::personalize::lambda_selection`]) |
+//! | `multi` | as `paper-cv`, fitted to frames around each peak as well ([`crate::personalize::frame_selection`]) |
+//!
+//! The names and the product's default are in [`super::method`].
+//!
+//! Shapes whose prompt was not captured keep their generic shape `T_j`, and
+//! the result lists them.
+
+use super::blendshape_fit::{BlendshapeFit, Observation};
+use super::ebfr::ebfr_blendshapes;
+use super::error::PersonalizeError;
+use super::frame_selection::fit_frames;
+use super::generic_blendshapes::{GenericBlendshapes, generic_blendshapes};
+use super::lambda_selection::{LAMBDA_GRID, LambdaScore, choose_lambda};
+use super::method::{FitFrames, Method};
+use super::regularization_weights::regularization_weights;
+use crate::arkit::{BLENDSHAPE_COUNT, Blendshape, Blendshapes, Weights};
+use crate::session::Session;
+
+/// The person's blendshapes.
+#[derive(Clone, Debug)]
+pub struct Personalized {
+    /// How they were computed.
+    pub method: Method,
+    /// The neutral face `B₀` (the neutral scan) and the 52 delta blendshapes
+    /// `B_j`.
+    pub shapes: Blendshapes,
+    /// Shapes that were not captured and are the generic `T_j`.
+    pub generic_fallback: Vec<Blendshape>,
+    /// The regularization strength used (fits only).
+    pub lambda: Option<f64>,
+    /// `paper-cv`/`multi`: the validation error of each λ of
+    /// [`LAMBDA_GRID`], in grid order.
+    pub lambda_scores: Vec<LambdaScore>,
+}
+
+fn weights_f64(w: &Weights) -> [f64; BLENDSHAPE_COUNT] {
+    w.0.map(f64::from)
+}
+
+/// Personalizes the session's blendshapes with `method`.
+pub fn personalize(session: &Session, method: Method) -> Result<Personalized, PersonalizeError> {
+    let generic = generic_blendshapes(session)?;
+    let captured = captured_prompts(session);
+    let finish = |shapes, lambda, lambda_scores| Personalized {
+        method,
+        shapes,
+        generic_fallback: Blendshape::ALL
+            .into_iter()
+            .filter(|s| !captured[s.index()])
+            .collect(),
+        lambda,
+        lambda_scores,
+    };
+    if method != Method::Dt && session.captures.is_empty() {
+        return Err(PersonalizeError::NoCaptures);
+    }
+    let chosen_lambda = |frames| -> Result<Personalized, PersonalizeError> {
+        let fit = assemble_fit(session, &generic, frames);
+        let choice = choose_lambda(session, &fit, &LAMBDA_GRID)?;
+        Ok(finish(choice.shapes, Some(choice.lambda), choice.scores))
+    };
+    match method {
+        Method::Dt => Ok(finish(generic.shapes.clone(), None, Vec::new())),
+        Method::Ebfr => {
+            let shapes = ebfr_blendshapes(session, &generic, &captured)?;
+            Ok(finish(shapes, None, Vec::new()))
+        }
+        Method::Paper => {
+            let fit = assemble_fit(session, &generic, FitFrames::Captures);
+            Ok(finish(fit.solve(1.0)?, Some(1.0), Vec::new()))
+        }
+        Method::PaperCv => chosen_lambda(FitFrames::Captures),
+        Method::Multi => chosen_lambda(FitFrames::AroundPeaks),
+    }
+}
+
+/// The observations of `E_fit`: the captures, and with
+/// [`FitFrames::AroundPeaks`] the frames around them, each prompt weighing
+/// as one capture in total.
+fn observations(session: &Session, frames: FitFrames) -> Vec<Observation<'_>> {
+    let mut observations: Vec<Observation> = session
+        .captures
+        .iter()
+        .map(|c| Observation {
+            weights: weights_f64(&c.weights),
+            vertices: &c.vertices,
+            importance: 1.0,
+        })
+        .collect();
+    if frames == FitFrames::AroundPeaks {
+        let extra = fit_frames(session);
+        let mut per_capture = vec![1usize; session.captures.len()];
+        for e in &extra {
+            per_capture[e.capture] += 1;
+        }
+        for (o, k) in observations.iter_mut().zip(&per_capture) {
+            o.importance = 1.0 / *k as f64;
+        }
+        for e in extra {
+            let frame = &session.frames[e.frame];
+            if let Some(vertices) = &frame.vertices {
+                observations.push(Observation {
+                    weights: weights_f64(&frame.weights),
+                    vertices,
+                    importance: 1.0 / per_capture[e.capture] as f64,
+                });
+            }
+        }
+    }
+    observations
+}
+
+/// The paper's fit solved for one λ of a sweep.
+#[derive(Clone, Debug)]
+pub struct LambdaFit {
+    /// The regularization strength.
+    pub lambda: f64,
+    /// The blendshapes fitted with it.
+    pub shapes: Blendshapes,
+}
+
+/// The λ study: the fit with `frames`, solved for each λ of `grid`.
+pub fn lambda_sweep(
+    session: &Session,
+    frames: FitFrames,
+    grid: &[f64],
+) -> Result<Vec<LambdaFit>, PersonalizeError> {
+    let generic = generic_blendshapes(session)?;
+    let fit = assemble_fit(session, &generic, frames);
+    grid.iter()
+        .map(|&lambda| {
+            Ok(LambdaFit {
+                lambda,
+                shapes: fit.solve(lambda)?,
+            })
+        })
+        .collect()
+}
+
+/// Which prompts were captured: the unknowns of the fits.
+fn captured_prompts(session: &Session) -> [bool; BLENDSHAPE_COUNT] {
+    let mut captured = [false; BLENDSHAPE_COUNT];
+    for c in &session.captures {
+        captured[c.prompt.index()] = true;
+    }
+    captured
+}
+
+/// Eq. (1)–(3) assembled for the session: the Eq. (3) weights of the generic
+/// blendshapes, the observations of `frames`, the captured shapes unknown.
+fn assemble_fit<'g>(
+    session: &Session,
+    generic: &'g GenericBlendshapes,
+    frames: FitFrames,
+) -> BlendshapeFit<'g> {
+    let weights: Vec<Vec<f64>> = generic
+        .shapes
+        .deltas()
+        .iter()
+        .map(|t| regularization_weights(t))
+        .collect();
+    BlendshapeFit::new(
+        &generic.shapes,
+        &weights,
+        &captured_prompts(session),
+        &observations(session, frames),
+    )
+}

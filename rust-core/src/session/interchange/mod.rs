@@ -1,0 +1,223 @@
+//! OBJ + CSV interchange of a capture [`Session`]: a folder of plain files
+//! that other tools (Blender, Live Link Face, spreadsheets) read and write.
+//!
+//! # Layout
+//!
+//! ```text
+//! DIR/template/neutral.obj     generic template, all weights 0
+//! DIR/template/<name>.obj      one per ARKit name, that weight 1
+//! DIR/neutral.obj              the person's neutral scan
+//! DIR/expressions/<name>.obj   the captured mesh for that prompt
+//! DIR/expressions/weights.csv  header: prompt,<the 52 ARKit names>; one row per capture
+//! DIR/test/<id>.obj            optional held-out test expressions
+//! DIR/test/weights.csv         header: id,<the 52 ARKit names>
+//! DIR/frames.csv               optional weight stream (see below)
+//! ```
+//!
+//! Every OBJ shares one topology, that of `template/neutral.obj` (same vertex
+//! count and same face list, see [`crate::io::obj_reader`] for the OBJ dialect); units
+//! are metres. Column names, `<name>` file stems and `prompt` cells may be
+//! spelled any way [`Blendshape::parse`] accepts (`eyeBlinkLeft`,
+//! `EyeBlinkLeft`, `eyeBlink_L`, …); on export ARKit's own spelling is used.
+//! The CSV dialect is described in [`weights_csv`]. Weights must lie in
+//! `[0, 1]` within [`WEIGHT_TOLERANCE`] (1e-3); accepted values are kept as
+//! they are.
+//!
+//! A missing `template/<name>.obj` is imported as a zero delta (a copy of
+//! the template neutral) with a warning; an OBJ in `expressions/` or `test/`
+//! without a row in its `weights.csv` is ignored with a warning. A row
+//! whose OBJ is missing is an error.
+//!
+//! `frames.csv` is either `timestamp,<52 names>` (seconds, non-decreasing)
+//! or a Live Link Face recording: `Timecode`, `BlendshapeCount` (or
+//! `BlendShapeCount`), the 52 names, and head and eye rotation columns,
+//! which are ignored. A Live Link timecode `HH:MM:SS:FF.fff` is
+//! `HH·3600 + MM·60 + SS + (FF + .fff) / r`, where the timecode rate `r` is
+//! the smallest of 24, 25, 30, 48, 50, 60, 120 above every frame number
+//! `FF` in the file; imported timestamps count from the first row. The
+//! session's frame rate is one over the median spacing of the timestamps
+//! (60 Hz with fewer than two distinct timestamps).
+//!
+//! # What a round trip keeps
+//!
+//! [`export_folder`] followed by [`import_folder`] keeps the topology, the
+//! template, the neutral scan, the captures (prompt, weights, meshes), the
+//! tests and the stream's timestamps and weights. Weights and timestamps
+//! are printed in Rust's shortest round-tripping notation, so they come back
+//! bit for bit; coordinates are printed with 7 decimals, so they come back
+//! within 0.06 µm (plus f32 rounding). It drops what the layout has no
+//! place for: device information (imported as model `imported`), frame
+//! meshes, the `tracked` flags (imported frames are tracked), the frame
+//! indices of captures and tests, and simulator ground truth.
+
+mod error;
+mod export;
+mod frame_stream;
+mod import;
+pub mod weights_csv;
+
+pub use error::InterchangeError;
+use error::read_text;
+pub use export::export_folder;
+use frame_stream::frame_rate;
+#[cfg(test)]
+use frame_stream::parse_timecode;
+pub use frame_stream::read_frames;
+pub use import::import_folder;
+
+pub use crate::io::obj_reader::{ObjMesh, read_obj};
+pub use weights_csv::{WEIGHT_TOLERANCE, WeightRow, WeightTable, read_weight_table};
+
+use crate::arkit::Blendshape;
+use crate::geometry::topology::Topology;
+use crate::io::atomic_write::write_atomically;
+use crate::io::obj_writer::write_obj;
+use crate::session::{
+    CapturedExpression, DeviceInfo, Session, SessionError, SessionParts, Template, TestExpression,
+};
+use glam::{DVec3, Vec3};
+use std::io;
+use std::path::{Path, PathBuf};
+
+/// Frame rate of an imported session whose stream does not say otherwise.
+pub const DEFAULT_FRAME_RATE: f32 = 60.0;
+
+/// Device model of an imported session.
+pub const IMPORTED_MODEL: &str = "imported";
+
+pub(super) fn io_error(path: &Path) -> impl FnOnce(io::Error) -> InterchangeError + '_ {
+    move |source| InterchangeError::Io {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+/// Reads an OBJ and checks it against the template topology.
+pub(super) fn read_mesh(path: &Path, topology: &Topology) -> Result<Vec<Vec3>, InterchangeError> {
+    let mesh = read_obj(path)?;
+    if mesh.positions.len() != topology.vertex_count() {
+        return Err(InterchangeError::VertexCount {
+            path: path.to_path_buf(),
+            expected: topology.vertex_count(),
+            found: mesh.positions.len(),
+        });
+    }
+    let expected = topology.triangles();
+    if let Some(k) =
+        (0..mesh.triangles.len().min(expected.len())).find(|&k| mesh.triangles[k] != expected[k])
+    {
+        let [a, b, c] = mesh.triangles[k].map(|i| i + 1);
+        let [x, y, z] = expected[k].map(|i| i + 1);
+        return Err(InterchangeError::Faces {
+            path: path.to_path_buf(),
+            line: Some(mesh.triangle_lines[k]),
+            message: format!(
+                "triangle {} is ({a} {b} {c}), but in template/neutral.obj it is ({x} {y} {z})",
+                k + 1
+            ),
+        });
+    }
+    if mesh.triangles.len() != expected.len() {
+        return Err(InterchangeError::Faces {
+            path: path.to_path_buf(),
+            line: None,
+            message: format!(
+                "{} triangles, but template/neutral.obj has {}",
+                mesh.triangles.len(),
+                expected.len()
+            ),
+        });
+    }
+    Ok(mesh.positions)
+}
+
+/// The `*.obj` file stems in `dir` (empty if `dir` does not exist).
+pub(super) fn obj_stems(dir: &Path) -> Result<Vec<String>, InterchangeError> {
+    let entries = match std::fs::read_dir(dir) {
+        Ok(e) => e,
+        Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(Vec::new()),
+        Err(e) => return Err(io_error(dir)(e)),
+    };
+    let mut stems = Vec::new();
+    for entry in entries {
+        let path = entry.map_err(io_error(dir))?.path();
+        if path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("obj"))
+        {
+            if let Some(stem) = path.file_stem().and_then(|s| s.to_str()) {
+                stems.push(stem.to_string());
+            }
+        }
+    }
+    stems.sort();
+    Ok(stems)
+}
+
+/// Finds the OBJ in `dir` for `shape` under any accepted spelling, ARKit's
+/// own first.
+pub(super) fn shape_obj(dir: &Path, stems: &[String], shape: Blendshape) -> Option<PathBuf> {
+    let own = dir.join(format!("{}.obj", shape.name()));
+    if own.is_file() {
+        return Some(own);
+    }
+    stems
+        .iter()
+        .find(|s| Blendshape::parse(s) == Ok(shape))
+        .map(|s| dir.join(format!("{s}.obj")))
+}
+
+/// Whether a test id can be a file stem and a CSV cell.
+pub(super) fn check_id(id: &str) -> Result<(), InterchangeError> {
+    let bad = id.is_empty()
+        || id == "."
+        || id == ".."
+        || id != id.trim()
+        || id.contains(['/', '\\', ',', '\n', '\r']);
+    if bad {
+        Err(InterchangeError::BadId(id.to_string()))
+    } else {
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::session::Frame;
+
+    #[test]
+    fn timecodes_parse_with_subframes() {
+        assert_eq!(
+            parse_timecode("10:42:31:12.456"),
+            Some((10.0 * 3600.0 + 42.0 * 60.0 + 31.0, 12.456))
+        );
+        assert_eq!(parse_timecode("00:00:01:05"), Some((1.0, 5.0)));
+        for bad in [
+            "",
+            "1:2:3",
+            "10:42:31:x",
+            "10:42:31:12.4a",
+            "10:61:00:00",
+            "a:b:c:d",
+        ] {
+            assert_eq!(parse_timecode(bad), None, "{bad}");
+        }
+    }
+
+    #[test]
+    fn frame_rate_is_the_median_spacing() {
+        let frame = |t| Frame {
+            timestamp: t,
+            weights: Default::default(),
+            tracked: true,
+            vertices: None,
+        };
+        assert_eq!(frame_rate(&[]), DEFAULT_FRAME_RATE);
+        let frames: Vec<_> = [0.0, 0.02, 0.04, 0.1, 0.12]
+            .into_iter()
+            .map(frame)
+            .collect();
+        assert!((frame_rate(&frames) - 50.0).abs() < 1e-3);
+    }
+}

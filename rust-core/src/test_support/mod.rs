@@ -1,0 +1,44 @@
+//! Fixtures shared by the crate's unit tests: small synthetic face masks.
+//! The mesh itself comes from [`face_grid`], which the integration tests
+//! (`rust-core/tests/`) and the benchmarks include by path, so every test
+//! of the geometry sees the same face.
+
+pub(crate) mod face_grid;
+
+use crate::geometry::topology::Topology;
+use face_grid::Grid;
+pub(crate) use face_grid::Hole;
+use glam::Vec3;
+
+/// Cell size of [`grid_with_holes`] (m).
+pub(crate) const CELL: f32 = 0.01;
+/// Grid size of [`face_grid`].
+pub(crate) const FACE_NX: usize = 22;
+/// Grid size of [`face_grid`].
+pub(crate) const FACE_NY: usize = 17;
+/// Eye holes of [`face_grid`], person's left (+x) first: 6 × 2 cells.
+pub(crate) const EYES: [Hole; 2] = [(13, 19, 10, 12), (2, 8, 10, 12)];
+/// Mouth slit of [`face_grid`]: 9 × 1 cells.
+pub(crate) const MOUTH: Hole = (6, 15, 4, 5);
+
+fn checked(grid: Grid) -> (Topology, Vec<Vec3>, Vec<Option<u32>>) {
+    let topology = Topology::new(grid.positions.len(), grid.triangles).expect("valid grid");
+    (topology, grid.positions, grid.index)
+}
+
+/// The fixture's grid with [`CELL`] spacing and gentle bend.
+pub(crate) fn grid_with_holes(
+    nx: usize,
+    ny: usize,
+    holes: &[Hole],
+    shift: impl Fn(usize, usize) -> Vec3,
+) -> (Topology, Vec<Vec3>, Vec<Option<u32>>) {
+    checked(face_grid::grid_with_holes(nx, ny, CELL, 2.0, holes, shift))
+}
+
+/// A face-like grid: outline, two eye holes and a mouth slit.
+pub(crate) fn face_grid() -> (Topology, Vec<Vec3>, Vec<Option<u32>>) {
+    checked(face_grid::face_grid(
+        FACE_NX, FACE_NY, CELL, 2.0, EYES, MOUTH,
+    ))
+}

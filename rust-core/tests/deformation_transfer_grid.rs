@@ -228,7 +228,7 @@ fn solving_the_transferred_gradients_gives_the_transfer_back() {
         .triangles()
         .iter()
         .map(|t| {
-            let frame = likeness::geometry::deformation_gradient::RestFrame::new(
+            let frame = likeness::geometry::deformation_gradient::RestTriangle::new(
                 t.map(|v| target[v as usize]),
             )
             .unwrap();

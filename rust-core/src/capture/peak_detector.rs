@@ -132,11 +132,6 @@ impl PeakDetector {
         }
     }
 
-    /// Forgets everything, frame count included (for a retake).
-    pub fn reset(&mut self) {
-        *self = PeakDetector::new(self.config);
-    }
-
     /// The earliest frame a peak reported from now on can be: frames before
     /// it may be forgotten by whoever keeps them.
     pub fn oldest_needed(&self) -> usize {

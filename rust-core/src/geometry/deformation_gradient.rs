@@ -100,11 +100,11 @@ pub fn scaled_normal(e1: DVec3, e2: DVec3) -> DVec3 {
     c / c.length().sqrt()
 }
 
-/// The frame `V = [e₁ e₂ ñ]` of the triangle `x` (columns), Sumner's
+/// The edge matrix `V = [e₁ e₂ ñ]` of the triangle `x` (columns), Sumner's
 /// "fourth vertex" construction: `x₀ + ñ` plays the role of a fourth vertex
 /// off the plane, so that `V` is invertible for any non-degenerate triangle
 /// (`det V = ‖c‖^{3/2} > 0`).
-pub fn frame(x: [DVec3; 3]) -> DMat3 {
+pub fn edge_matrix(x: [DVec3; 3]) -> DMat3 {
     let e1 = x[1] - x[0];
     let e2 = x[2] - x[0];
     DMat3::from_cols(e1, e2, scaled_normal(e1, e2))
@@ -113,52 +113,52 @@ pub fn frame(x: [DVec3; 3]) -> DMat3 {
 /// Deformation gradient `Q = [e₁' e₂' ñ'] [e₁ e₂ ñ]⁻¹` that maps the rest
 /// triangle onto the deformed one (Sumner & Popović 2004, §3), or `None` if
 /// the rest triangle is degenerate. The deformed triangle may be collapsed
-/// (then `ñ' = 0`). See [`RestFrame`] to reuse the inverse for many deformed
+/// (then `ñ' = 0`). See [`RestTriangle`] to reuse the inverse for many deformed
 /// triangles.
 pub fn deformation_gradient(rest: [DVec3; 3], deformed: [DVec3; 3]) -> Option<DMat3> {
-    RestFrame::new(rest).map(|f| f.deformation_gradient(deformed))
+    RestTriangle::new(rest).map(|f| f.deformation_gradient(deformed))
 }
 
-/// A rest triangle prepared for computing deformation gradients: its frame
-/// `V = [e₁ e₂ ñ]` ([`frame`]) and `V⁻¹`.
+/// A rest triangle prepared for computing deformation gradients: its edge matrix
+/// `V = [e₁ e₂ ñ]` ([`edge_matrix`]) and `V⁻¹`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RestFrame {
-    frame: DMat3,
+pub struct RestTriangle {
+    edge_matrix: DMat3,
     inverse: DMat3,
 }
 
-impl RestFrame {
+impl RestTriangle {
     /// Prepares the rest triangle `x`, or returns `None` if it is degenerate
     /// ([`is_degenerate`]) and has no deformation gradient.
-    pub fn new(x: [DVec3; 3]) -> Option<RestFrame> {
+    pub fn new(x: [DVec3; 3]) -> Option<RestTriangle> {
         if is_degenerate(x) {
             return None;
         }
-        let frame = frame(x);
-        Some(RestFrame {
-            frame,
-            inverse: frame.inverse(),
+        let edge_matrix = edge_matrix(x);
+        Some(RestTriangle {
+            edge_matrix,
+            inverse: edge_matrix.inverse(),
         })
     }
 
-    /// The rest frame `V = [e₁ e₂ ñ]`.
-    pub fn frame(&self) -> DMat3 {
-        self.frame
+    /// The rest edge matrix `V = [e₁ e₂ ñ]`.
+    pub fn edge_matrix(&self) -> DMat3 {
+        self.edge_matrix
     }
 
     /// Deformation gradient `Q = V' V⁻¹` onto the triangle `deformed`, where
-    /// `V' = [e₁' e₂' ñ']` is the deformed frame ([`frame`]). `Q` maps `e₁ ↦ e₁'`,
+    /// `V' = [e₁' e₂' ñ']` is the deformed edge matrix ([`edge_matrix`]). `Q` maps `e₁ ↦ e₁'`,
     /// `e₂ ↦ e₂'` and `ñ ↦ ñ'`; for a similarity `x ↦ sRx + t` it is `sR`.
     /// Finite for every finite `deformed`, collapsed or not.
     pub fn deformation_gradient(&self, deformed: [DVec3; 3]) -> DMat3 {
-        frame(deformed) * self.inverse
+        edge_matrix(deformed) * self.inverse
     }
 
-    /// Displacement gradient `Q − I = (V' − V) V⁻¹`, computed from the frame
+    /// Displacement gradient `Q − I = (V' − V) V⁻¹`, computed from the edge-matrix
     /// difference so that it is exactly zero when `deformed` is the rest
     /// triangle (no `V V⁻¹ ≠ I` rounding).
     pub fn displacement_gradient(&self, deformed: [DVec3; 3]) -> DMat3 {
-        (frame(deformed) - self.frame) * self.inverse
+        (edge_matrix(deformed) - self.edge_matrix) * self.inverse
     }
 }
 
@@ -233,13 +233,13 @@ mod tests {
 
     #[test]
     fn collapsing_triangles_have_finite_gradients_that_converge() {
-        let rest = RestFrame::new(TRI).unwrap();
+        let rest = RestTriangle::new(TRI).unwrap();
         // Squash corner 2 onto the line through corners 0 and 1.
         let mid = 0.5 * (TRI[0] + TRI[1]);
         let squash = |h: f64| [TRI[0], TRI[1], mid + h * (TRI[2] - mid)];
         let limit = rest.deformation_gradient(squash(0.0));
         assert!(limit.is_finite());
-        assert_eq!(frame(squash(0.0)).z_axis, DVec3::ZERO);
+        assert_eq!(edge_matrix(squash(0.0)).z_axis, DVec3::ZERO);
         let mut previous = f64::INFINITY;
         for h in [1e-2, 1e-4, 1e-6, 1e-8, 1e-12, 1e-200] {
             let q = rest.deformation_gradient(squash(h));
@@ -260,17 +260,17 @@ mod tests {
 
     #[test]
     fn degenerate_rest_triangles_are_rejected() {
-        assert!(RestFrame::new([TRI[0], TRI[1], TRI[1]]).is_none());
-        assert!(RestFrame::new([TRI[0], TRI[1], 2.0 * TRI[1] - TRI[0]]).is_none());
+        assert!(RestTriangle::new([TRI[0], TRI[1], TRI[1]]).is_none());
+        assert!(RestTriangle::new([TRI[0], TRI[1], 2.0 * TRI[1] - TRI[0]]).is_none());
         assert!(hat_gradients([TRI[0]; 3]).is_none());
         let nan = DVec3::new(f64::NAN, 0.0, 0.0);
-        assert!(RestFrame::new([TRI[0], TRI[1], nan]).is_none());
+        assert!(RestTriangle::new([TRI[0], TRI[1], nan]).is_none());
         assert!(is_degenerate([TRI[0], TRI[1], nan]));
     }
 
     #[test]
     fn displacement_gradient_of_the_rest_triangle_is_exactly_zero() {
-        let rest = RestFrame::new(TRI).unwrap();
+        let rest = RestTriangle::new(TRI).unwrap();
         assert_eq!(rest.displacement_gradient(TRI), DMat3::ZERO);
         let deformed = TRI.map(|p| p * 1.1);
         let q = rest.deformation_gradient(deformed);

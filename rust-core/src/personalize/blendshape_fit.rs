@@ -24,7 +24,7 @@
 //! factorization. Shapes that were not captured are not unknowns: they keep
 //! their generic shape `T_j` and their contribution is moved to the data side.
 
-use super::error::PersonalizeError;
+use super::error::{PersonalizeError, SingularFit};
 use crate::arkit::{BLENDSHAPE_COUNT, Blendshapes};
 use faer::{Mat, Par};
 use glam::{DVec3, Vec3};
@@ -38,19 +38,6 @@ pub struct Observation<'a> {
     pub vertices: &'a [Vec3],
     /// Importance `c_i` of this observation in `E_fit` (1 for a capture).
     pub importance: f64,
-}
-
-/// A fit failed: the per-vertex system is not positive definite (possible
-/// only with λ = 0 and too few observations).
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error(
-    "the fit at vertex {vertex} is singular (λ = {lambda}); too few observations for an unregularized fit"
-)]
-pub struct SingularFit {
-    /// The vertex whose system failed.
-    pub vertex: usize,
-    /// The λ used.
-    pub lambda: f64,
 }
 
 /// The assembled fit, reusable for several λ.

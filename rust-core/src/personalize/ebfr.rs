@@ -26,11 +26,11 @@
 //! their alternation starts from (they lower it as the weights improve; with
 //! known weights there is one step).
 
-use super::blendshape_fit::{SingularFit, solve_shared_gram};
-use super::error::PersonalizeError;
+use super::blendshape_fit::solve_shared_gram;
+use super::error::{PersonalizeError, SingularFit};
 use super::generic_blendshapes::GenericBlendshapes;
 use crate::arkit::{BLENDSHAPE_COUNT, Blendshapes};
-use crate::geometry::deformation_gradient::RestFrame;
+use crate::geometry::deformation_gradient::RestTriangle;
 use crate::geometry::deformation_transfer::TransferError;
 use crate::session::{Session, Template};
 use faer::Mat;
@@ -75,19 +75,19 @@ impl<T: Copy> PerShape<T> {
     }
 }
 
-/// Rest frames of every triangle (mesh and virtual) on `mesh`.
-fn rest_frames(
+/// Every triangle (mesh and virtual) of `mesh`, prepared as a rest triangle.
+fn rest_triangles(
     generic: &GenericBlendshapes,
     mesh: &[DVec3],
     name: &'static str,
-) -> Result<Vec<RestFrame>, TransferError> {
+) -> Result<Vec<RestTriangle>, TransferError> {
     let transfer = &generic.transfer;
     transfer
         .triangles()
         .iter()
         .enumerate()
         .map(|(t, tri)| {
-            RestFrame::new(corners(mesh, tri)).ok_or(TransferError::DegenerateTriangle {
+            RestTriangle::new(corners(mesh, tri)).ok_or(TransferError::DegenerateTriangle {
                 mesh: name,
                 triangle: t,
                 vertices: *tri,
@@ -103,8 +103,8 @@ fn rest_frames(
 fn priors_and_weights(
     generic: &GenericBlendshapes,
     template: &Template,
-    rest: &[RestFrame],
-    template_rest: &[RestFrame],
+    rest: &[RestTriangle],
+    template_rest: &[RestTriangle],
 ) -> (PerShape<DMat3>, PerShape<f64>) {
     let triangles = generic.transfer.triangles();
     let nt = triangles.len();
@@ -144,7 +144,7 @@ fn priors_and_weights(
 fn example_gradients(
     session: &Session,
     generic: &GenericBlendshapes,
-    rest: &[RestFrame],
+    rest: &[RestTriangle],
     prior: &PerShape<DMat3>,
     uncaptured: &[usize],
 ) -> Mat<f64> {
@@ -172,8 +172,8 @@ pub fn ebfr_blendshapes(
     generic: &GenericBlendshapes,
     captured: &[bool; BLENDSHAPE_COUNT],
 ) -> Result<Blendshapes, PersonalizeError> {
-    let rest = rest_frames(generic, generic.shapes.neutral(), "neutral scan")?;
-    let template_rest = rest_frames(generic, &to_f64(&session.template.neutral), "template")?;
+    let rest = rest_triangles(generic, generic.shapes.neutral(), "neutral scan")?;
+    let template_rest = rest_triangles(generic, &to_f64(&session.template.neutral), "template")?;
     let (prior, omega) = priors_and_weights(generic, &session.template, &rest, &template_rest);
     let free: Vec<usize> = (0..BLENDSHAPE_COUNT).filter(|j| captured[*j]).collect();
     let uncaptured: Vec<usize> = (0..BLENDSHAPE_COUNT).filter(|j| !captured[*j]).collect();

@@ -4,7 +4,6 @@
 //! is about contradictory input: these are the failures of the methods
 //! themselves.
 
-use super::blendshape_fit::SingularFit;
 use crate::arkit::BlendshapesError;
 use crate::geometry::deformation_transfer::TransferError;
 use crate::geometry::mesh_boundary::EyeHoleError;
@@ -28,4 +27,17 @@ pub enum PersonalizeError {
     /// Nothing was captured, so there is nothing to personalize from.
     #[error("the session has no captured expressions")]
     NoCaptures,
+}
+
+/// A fit failed: the per-vertex system is not positive definite (possible
+/// only with λ = 0 and too few observations).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error(
+    "the fit at vertex {vertex} is singular (λ = {lambda}); too few observations for an unregularized fit"
+)]
+pub struct SingularFit {
+    /// The vertex whose system failed.
+    pub vertex: usize,
+    /// The λ used.
+    pub lambda: f64,
 }

@@ -31,7 +31,7 @@
 //! Because the target rest triangle reproduces affine functions,
 //! `L B₀ = Σ_t A_t I ∇φ_k`, so the displacement `D = X' − B₀` solves
 //! `L D = Σ_t A_t (Q_t − I) ∇φ_k`. Solving for `D` directly keeps a zero
-//! deformation exactly zero ([`RestFrame::displacement_gradient`]). `L`
+//! deformation exactly zero ([`RestTriangle::displacement_gradient`]). `L`
 //! depends only on the target rest mesh: it is factored once (sparse
 //! Cholesky), and `m` shapes are one batched solve with `3m` right-hand sides.
 //!
@@ -84,7 +84,7 @@
 //! nothing changes. [`DeformationTransfer::with_contacts`] switches them off
 //! for a plain Sumner–Popović transfer.
 
-use super::deformation_gradient::{RestFrame, hat_gradients, triangle_area};
+use super::deformation_gradient::{RestTriangle, hat_gradients, triangle_area};
 use super::topology::{GeometryError, Topology, TopologyError};
 use faer::linalg::solvers::Solve;
 use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
@@ -355,16 +355,18 @@ impl DeformationTransfer {
             check_positions(&format!("source shape {j}"), shape.as_ref(), n)?;
         }
         let mut source_area = 0.0;
-        let mut frames = Vec::with_capacity(self.triangles.len());
+        let mut rest = Vec::with_capacity(self.triangles.len());
         for (t, tri) in self.triangles.iter().enumerate() {
             let x = tri.map(|v| source_rest[v as usize]);
             source_area += triangle_area(x);
-            frames.push(RestFrame::new(x).ok_or(TransferError::DegenerateTriangle {
-                mesh: "source rest",
-                triangle: t,
-                vertices: *tri,
-                is_virtual: t >= self.mesh_triangles,
-            })?);
+            rest.push(
+                RestTriangle::new(x).ok_or(TransferError::DegenerateTriangle {
+                    mesh: "source rest",
+                    triangle: t,
+                    vertices: *tri,
+                    is_virtual: t >= self.mesh_triangles,
+                })?,
+            );
         }
 
         let sigma = (self.target_area / source_area).sqrt();
@@ -378,8 +380,8 @@ impl DeformationTransfer {
             let handles: Vec<_> = source_shapes
                 .chunks(chunk)
                 .map(|shapes| {
-                    let frames = &frames;
-                    scope.spawn(move || self.transfer_chunk(frames, source_rest, shapes, sigma))
+                    let rest = &rest;
+                    scope.spawn(move || self.transfer_chunk(rest, source_rest, shapes, sigma))
                 })
                 .collect();
             handles
@@ -401,10 +403,10 @@ impl DeformationTransfer {
     }
 
     /// [`DeformationTransfer::transfer_many`] for one batch of shapes, with
-    /// the source rest frames and the size ratio `sigma` already computed.
+    /// the source rest triangles and the size ratio `sigma` already computed.
     fn transfer_chunk<S: AsRef<[DVec3]>>(
         &self,
-        frames: &[RestFrame],
+        rest: &[RestTriangle],
         source_rest: &[DVec3],
         source_shapes: &[S],
         sigma: f64,
@@ -413,8 +415,8 @@ impl DeformationTransfer {
         let mut rhs = Mat::<f64>::zeros(self.unknown_count, 3 * source_shapes.len());
         for (j, shape) in source_shapes.iter().enumerate() {
             let shape = shape.as_ref();
-            for (t, (tri, frame)) in self.triangles.iter().zip(frames).enumerate() {
-                let dq = frame.displacement_gradient(tri.map(|v| shape[v as usize]));
+            for (t, (tri, rest)) in self.triangles.iter().zip(rest).enumerate() {
+                let dq = rest.displacement_gradient(tri.map(|v| shape[v as usize]));
                 self.add_to_rhs(&mut rhs, j, t, dq);
             }
         }

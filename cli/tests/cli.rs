@@ -1,7 +1,6 @@
 //! The `likeness` command as a person uses it: summaries, JSON, and clear
 //! errors on bad input, never a panic.
 
-use std::path::PathBuf;
 use std::process::{Command, Output};
 
 fn likeness(args: &[&str]) -> Output {
@@ -12,10 +11,7 @@ fn likeness(args: &[&str]) -> Output {
 }
 
 fn sample() -> String {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../sim-data/sessions/subject-2.likeness")
-        .display()
-        .to_string()
+    likeness_tests::committed::path(2).display().to_string()
 }
 
 fn stderr(o: &Output) -> String {
@@ -203,17 +199,17 @@ fn replay_json_reports_every_capture_and_its_distance_from_the_truth() {
     }
 }
 
-#[path = "../../tests/tests/support/live_link.rs"]
-#[allow(dead_code)]
-mod live_link;
-
 #[test]
 fn replay_reads_a_live_link_face_csv_and_names_bad_lines() {
     let dir = std::env::temp_dir().join(format!("likeness-cli-replay-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let session = likeness::session::file::read(sample()).unwrap();
     let csv = dir.join("take.csv");
-    std::fs::write(&csv, live_link::live_link_csv(&session.frames)).unwrap();
+    std::fs::write(
+        &csv,
+        likeness_tests::live_link::live_link_csv(&session.frames),
+    )
+    .unwrap();
     let out = likeness(&["replay", csv.to_str().unwrap(), "--json"]);
     assert!(out.status.success(), "{}", stderr(&out));
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
@@ -223,7 +219,7 @@ fn replay_reads_a_live_link_face_csv_and_names_bad_lines() {
     let text = likeness(&["replay", csv.to_str().unwrap()]);
     assert!(String::from_utf8_lossy(&text.stdout).contains("53 captured"));
 
-    let broken = live_link::live_link_csv(&session.frames[..10]);
+    let broken = likeness_tests::live_link::live_link_csv(&session.frames[..10]);
     let bad = dir.join("bad.csv");
     std::fs::write(
         &bad,

@@ -6,7 +6,7 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use likeness::personalize::blendshape_fit::{BlendshapeFit, Observation};
-use likeness::personalize::regularization_weights::regularization_weights;
+use likeness::personalize::regularization_weights::regularization_weights_per_shape;
 use likeness::personalize::{Method, generic_blendshapes, personalize};
 use likeness::session::file::decode;
 use std::hint::black_box;
@@ -31,12 +31,7 @@ fn personalization(c: &mut Criterion) {
         b.iter(|| generic_blendshapes(black_box(&session)))
     });
     let generic = generic_blendshapes(&session).expect("transfers");
-    let weights: Vec<Vec<f64>> = generic
-        .shapes
-        .deltas()
-        .iter()
-        .map(|t| regularization_weights(t))
-        .collect();
+    let weights = regularization_weights_per_shape(&generic.shapes);
     let observations: Vec<Observation> = session
         .captures
         .iter()

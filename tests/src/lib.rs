@@ -1,1 +1,8 @@
-//! Replay and end-to-end tests live in `tests/`.
+//! `likeness-tests`: the replay and end-to-end tests against committed and
+//! simulated sessions (in `tests/tests/`), and, in this library, the
+//! fixtures they share with the command-line tests (`cli/tests/`): where the
+//! committed sessions are, and Live Link Face CSV text. See
+//! `tests/README.md` for which kind of test lives where.
+
+pub mod committed;
+pub mod live_link;

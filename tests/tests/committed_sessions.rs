@@ -3,15 +3,7 @@
 
 use likeness::session::file as session_file;
 use likeness_sim::{SAMPLE_GEOMETRY_WINDOW, SimulationOptions};
-use std::path::PathBuf;
-
-/// Seeds of the committed sessions (listed in sim-data/README.md).
-const SEEDS: [u64; 4] = [1, 2, 3, 4];
-
-fn path(seed: u64) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join(format!("../sim-data/sessions/subject-{seed}.likeness"))
-}
+use likeness_tests::committed::{SEEDS, path};
 
 #[test]
 fn each_committed_session_regenerates_identically_from_its_seed() {
@@ -42,7 +34,7 @@ fn committed_sessions_stay_within_twenty_megabytes() {
 #[test]
 fn committed_sessions_decode_to_complete_captures() {
     for seed in SEEDS {
-        let s = session_file::read(path(seed)).expect("decodes");
+        let s = likeness_tests::committed::read(seed).expect("decodes");
         assert_eq!(s.captures.len(), 52, "seed {seed}");
         assert!(s.truth.as_ref().is_some_and(|t| t.seed == seed));
         // Geometry is kept around every capture, as the app's ring buffer would.

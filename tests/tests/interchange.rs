@@ -2,17 +2,15 @@
 //! Live Link Face recording imports with the right weights, and every kind of
 //! bad input is an error that names the file and the line.
 
-mod support;
-
 use glam::Vec3;
-use likeness::session::interchange::{InterchangeError, export_folder, import_folder};
+use likeness::session::interchange::{FileError, InterchangeError, export_folder, import_folder};
 use likeness::{
     Blendshape, CapturedExpression, DeviceInfo, Frame, Session, SessionParts, Template,
     TestExpression, Topology, Weights,
 };
+use likeness_tests::live_link::{LIVE_LINK_NAMES, live_link_header};
 use std::fs;
 use std::path::{Path, PathBuf};
-use support::live_link::{LIVE_LINK_NAMES, live_link_header};
 
 /// A fresh, empty scratch folder for one test.
 fn scratch(name: &str) -> PathBuf {
@@ -97,11 +95,7 @@ fn assert_close(what: &str, a: &[Vec3], b: &[Vec3]) {
 
 #[test]
 fn a_committed_session_survives_export_and_import() {
-    let session = likeness::session::file::read(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../sim-data/sessions/subject-1.likeness"
-    ))
-    .unwrap();
+    let session = likeness_tests::committed::read(1).unwrap();
     let dir = scratch("round-trip");
     export_folder(&session, &dir).unwrap();
     let (back, warnings) = import_folder(&dir).unwrap();
@@ -268,7 +262,10 @@ fn bad_inputs_name_the_file_and_line() {
     let (err, m) = import_error("missing-template", |d| {
         fs::remove_file(d.join("template/neutral.obj")).unwrap()
     });
-    assert!(matches!(err, InterchangeError::Missing { .. }));
+    assert!(matches!(
+        err,
+        InterchangeError::File(FileError::Missing { .. })
+    ));
     expect(&m, "template/neutral.obj", &[": missing"]);
     let (_, m) = import_error("missing-neutral", |d| {
         fs::remove_file(d.join("neutral.obj")).unwrap()
@@ -284,7 +281,10 @@ fn bad_inputs_name_the_file_and_line() {
         fs::remove_file(d.join("neutral.obj")).unwrap();
         fs::create_dir(d.join("neutral.obj")).unwrap();
     });
-    assert!(matches!(err, InterchangeError::Io { .. }), "{m}");
+    assert!(
+        matches!(err, InterchangeError::File(FileError::Io { .. })),
+        "{m}"
+    );
     expect(&m, "neutral.obj", &[]);
 
     // Geometry that does not match the template.

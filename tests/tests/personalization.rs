@@ -6,19 +6,12 @@
 
 use likeness::personalize::evaluation::{evaluate, mean_errors};
 use likeness::personalize::{Method, PersonalizeError, generic_blendshapes, personalize};
-use likeness::session::file as session_file;
 use likeness::{Blendshape, Session, SessionError, SessionParts};
 use std::sync::OnceLock;
 
 fn sample() -> &'static Session {
     static S: OnceLock<Session> = OnceLock::new();
-    S.get_or_init(|| {
-        let path = concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../sim-data/sessions/subject-3.likeness"
-        );
-        session_file::read(path).expect("committed session")
-    })
+    S.get_or_init(|| likeness_tests::committed::read(3).expect("committed session"))
 }
 
 #[test]

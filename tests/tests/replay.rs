@@ -5,18 +5,12 @@
 //! losses the simulator injects; the same holds for the weights alone, read
 //! back from a Live Link Face CSV.
 
-mod support;
-
 use likeness::capture::guided_capture::{GuidedCaptureConfig, Step};
 use likeness::capture::replay::{ReplayReport, replay_frames, replay_session};
-use support::live_link::live_link_csv;
+use likeness_tests::live_link::live_link_csv;
 
 fn committed(seed: u64) -> likeness::Session {
-    let path = format!(
-        "{}/../sim-data/sessions/subject-{seed}.likeness",
-        env!("CARGO_MANIFEST_DIR")
-    );
-    likeness::session::file::read(path).expect("committed session")
+    likeness_tests::committed::read(seed).expect("committed session")
 }
 
 fn prompt_errors(report: &ReplayReport) -> Vec<i64> {

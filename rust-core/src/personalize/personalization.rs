@@ -24,7 +24,7 @@ use super::frame_selection::fit_frames;
 use super::generic_blendshapes::{GenericBlendshapes, generic_blendshapes};
 use super::lambda_selection::{LAMBDA_GRID, LambdaScore, choose_lambda};
 use super::method::{FitFrames, Method};
-use super::regularization_weights::regularization_weights;
+use super::regularization_weights::regularization_weights_per_shape;
 use crate::arkit::{BLENDSHAPE_COUNT, Blendshape, Blendshapes, Weights};
 use crate::session::Session;
 
@@ -165,15 +165,9 @@ fn assemble_fit<'g>(
     generic: &'g GenericBlendshapes,
     frames: FitFrames,
 ) -> BlendshapeFit<'g> {
-    let weights: Vec<Vec<f64>> = generic
-        .shapes
-        .deltas()
-        .iter()
-        .map(|t| regularization_weights(t))
-        .collect();
     BlendshapeFit::new(
         &generic.shapes,
-        &weights,
+        &regularization_weights_per_shape(&generic.shapes),
         &captured_prompts(session),
         &observations(session, frames),
     )

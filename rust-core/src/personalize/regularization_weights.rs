@@ -8,6 +8,7 @@
 //! all (`‖·‖ < ε`) the weight is clamped to [`MAX_WEIGHT`] = 10⁵, as the paper
 //! does, to avoid dividing by zero.
 
+use crate::arkit::Blendshapes;
 use glam::DVec3;
 
 /// The clamp of Eq. (3): the weight of a vertex the template does not move.
@@ -34,6 +35,16 @@ pub fn regularization_weights(delta: &[DVec3]) -> Vec<f64> {
                 (largest / moved).min(MAX_WEIGHT)
             }
         })
+        .collect()
+}
+
+/// Eq. (3) for each of the 52 generic blendshapes `T_j` of `generic`: the
+/// diagonals of `D_1 … D_52`, in Apple's order.
+pub fn regularization_weights_per_shape(generic: &Blendshapes) -> Vec<Vec<f64>> {
+    generic
+        .deltas()
+        .iter()
+        .map(|t| regularization_weights(t))
         .collect()
 }
 

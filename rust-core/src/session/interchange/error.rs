@@ -9,20 +9,9 @@ use crate::io::text_file::FileError;
 /// names the file, and the 1-based line and column where there is one.
 #[derive(Debug, thiserror::Error)]
 pub enum InterchangeError {
-    /// A required file is missing.
-    #[error("{}: missing", path.display())]
-    Missing {
-        /// The missing file.
-        path: PathBuf,
-    },
-    /// Reading or writing failed.
-    #[error("{}: {source}", path.display())]
-    Io {
-        /// The file or folder.
-        path: PathBuf,
-        /// What the system reported.
-        source: io::Error,
-    },
+    /// A required file is missing, or reading or writing failed.
+    #[error(transparent)]
+    File(#[from] FileError),
     /// A line of an OBJ file could not be understood.
     #[error("{}:{line}: {message}", path.display())]
     Obj {
@@ -178,19 +167,10 @@ pub enum InterchangeError {
     },
 }
 
-impl From<FileError> for InterchangeError {
-    fn from(error: FileError) -> Self {
-        match error {
-            FileError::Missing { path } => InterchangeError::Missing { path },
-            FileError::Io { path, source } => InterchangeError::Io { path, source },
-        }
-    }
-}
-
 impl From<ObjError> for InterchangeError {
     fn from(error: ObjError) -> Self {
         match error {
-            ObjError::File(file) => file.into(),
+            ObjError::File(file) => InterchangeError::File(file),
             ObjError::Syntax {
                 path,
                 line,
@@ -204,7 +184,7 @@ impl From<ObjError> for InterchangeError {
     }
 }
 
-/// Reads a whole text file; a missing file is [`InterchangeError::Missing`].
+/// Reads a whole text file; a missing file is [`FileError::Missing`].
 pub(crate) fn read_text(path: &Path) -> Result<String, InterchangeError> {
     Ok(crate::io::text_file::read_text(path)?)
 }

@@ -72,6 +72,7 @@ use crate::arkit::Blendshape;
 use crate::geometry::topology::Topology;
 use crate::io::atomic_write::write_atomically;
 use crate::io::obj_writer::write_obj;
+pub use crate::io::text_file::FileError;
 use crate::session::{
     CapturedExpression, DeviceInfo, Session, SessionError, SessionParts, Template, TestExpression,
 };
@@ -86,9 +87,11 @@ pub const DEFAULT_FRAME_RATE: f32 = 60.0;
 pub const IMPORTED_MODEL: &str = "imported";
 
 pub(super) fn io_error(path: &Path) -> impl FnOnce(io::Error) -> InterchangeError + '_ {
-    move |source| InterchangeError::Io {
-        path: path.to_path_buf(),
-        source,
+    move |source| {
+        InterchangeError::File(FileError::Io {
+            path: path.to_path_buf(),
+            source,
+        })
     }
 }
 

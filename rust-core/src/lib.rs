@@ -15,7 +15,7 @@
 //! | personalized blendshapes, baselines and evaluation | §3.2, §4.1 | [`personalize`] |
 //!
 //! A folder uses only the folders above it in this table (a test in
-//! `rust-core/tests/module_layers.rs` checks it). This crate holds every
+//! `tests/tests/module_layers.rs` checks it). This crate holds every
 //! algorithm and every decision; it has no FFI and no command-line
 //! dependencies, so it stays small on the phone.
 

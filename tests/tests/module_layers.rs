@@ -1,6 +1,7 @@
-//! The crate's modules import each other without cycles, and its folders
-//! follow the pipeline: a folder uses only the folders above it in the
-//! table of `lib.rs`.
+//! The modules of the core (`rust-core`) and of the simulator (`sim-data`)
+//! import each other without cycles, and the core's folders follow the
+//! pipeline: a folder uses only the folders above it in the table of its
+//! `lib.rs`.
 //!
 //! The test reads the sources: every `crate::a::b` path and every
 //! `super::x` path outside comments is an edge from the module whose file
@@ -13,7 +14,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
-/// The folders in pipeline order, as `lib.rs` lists them.
+/// The core's folders in pipeline order, as its `lib.rs` lists them.
 const LAYERS: [&str; 6] = [
     "arkit",
     "geometry",
@@ -115,15 +116,23 @@ fn deepest_module(modules: &BTreeSet<Vec<String>>, path: &[String]) -> Vec<Strin
         .unwrap_or_default()
 }
 
-/// Edges between sibling modules: `(parent, from child, to child)`.
-fn sibling_edges() -> BTreeSet<(Vec<String>, String, String)> {
-    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+/// The `src` folder of the workspace crate in folder `krate`.
+fn src_of(krate: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("..")
+        .join(krate)
+        .join("src")
+}
+
+/// Edges between sibling modules of the crate whose sources are in `src`:
+/// `(parent, from child, to child)`.
+fn sibling_edges(src: &Path) -> BTreeSet<(Vec<String>, String, String)> {
     let mut files = Vec::new();
-    sources(&src, &mut files);
-    let modules: BTreeSet<Vec<String>> = files.iter().map(|f| module_of(&src, f)).collect();
+    sources(src, &mut files);
+    let modules: BTreeSet<Vec<String>> = files.iter().map(|f| module_of(src, f)).collect();
     let mut edges = BTreeSet::new();
     for file in &files {
-        let module = module_of(&src, file);
+        let module = module_of(src, file);
         let text = std::fs::read_to_string(file).expect("readable source");
         for path in referenced_paths(&without_comments(&text), &module) {
             let target = deepest_module(&modules, &path);
@@ -148,9 +157,10 @@ fn sibling_edges() -> BTreeSet<(Vec<String>, String, String)> {
     edges
 }
 
-#[test]
-fn sibling_modules_import_each_other_without_cycles() {
-    let edges = sibling_edges();
+/// Panics naming the first cycle among sibling modules of the crate in
+/// `src`.
+fn assert_no_cycle(src: &Path) {
+    let edges = sibling_edges(src);
     let mut graph: BTreeMap<(Vec<String>, String), Vec<String>> = BTreeMap::new();
     for (parent, from, to) in &edges {
         graph
@@ -193,7 +203,8 @@ fn sibling_modules_import_each_other_without_cycles() {
         let mut stack = Vec::new();
         if let Some(cycle) = visit(&graph, parent, node, &mut stack, &mut done) {
             panic!(
-                "import cycle under `crate::{}`: {}",
+                "{}: import cycle under `crate::{}`: {}",
+                src.display(),
                 parent.join("::"),
                 cycle.join(" → ")
             );
@@ -202,8 +213,18 @@ fn sibling_modules_import_each_other_without_cycles() {
 }
 
 #[test]
-fn folders_use_only_the_folders_above_them() {
-    for (parent, from, to) in sibling_edges() {
+fn the_core_has_no_import_cycle() {
+    assert_no_cycle(&src_of("rust-core"));
+}
+
+#[test]
+fn the_simulator_has_no_import_cycle() {
+    assert_no_cycle(&src_of("sim-data"));
+}
+
+#[test]
+fn core_folders_use_only_the_folders_above_them() {
+    for (parent, from, to) in sibling_edges(&src_of("rust-core")) {
         if !parent.is_empty() {
             continue;
         }
@@ -233,7 +254,7 @@ fn the_checker_reads_paths_and_finds_the_real_edges() {
         ]
     );
     // And on the real tree it finds the edges it should.
-    let edges = sibling_edges();
+    let edges = sibling_edges(&src_of("rust-core"));
     let has = |from: &str, to: &str| {
         edges
             .iter()

@@ -20,7 +20,8 @@ use glam::DVec3;
 #[derive(Clone, Debug, PartialEq)]
 pub struct Blendshapes {
     neutral: Vec<DVec3>,
-    /// Exactly [`BLENDSHAPE_COUNT`] fields of `neutral.len()` vectors.
+    /// Exactly [`BLENDSHAPE_COUNT`] fields of `neutral.len()` vectors
+    /// (checked in `new`), so `Blendshape::index()` always indexes it.
     deltas: Vec<Vec<DVec3>>,
 }
 

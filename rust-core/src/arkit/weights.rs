@@ -3,6 +3,8 @@
 use super::blendshape::{BLENDSHAPE_COUNT, Blendshape};
 
 /// One tracked value per ARKit blendshape, indexed by [`Blendshape`].
+// Indexing: `Blendshape::index()` and positions in the array are always
+// below BLENDSHAPE_COUNT, the array's length and that of `Blendshape::ALL`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Weights(pub [f32; BLENDSHAPE_COUNT]);
 

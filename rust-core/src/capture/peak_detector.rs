@@ -206,11 +206,15 @@ impl PeakDetector {
         self.history.push_back(w);
         // The reported frame can lie `fit_half_width` + latency before the
         // best frame, which can be the frame before the newest.
-        let reach =
-            self.config.fit_half_width + self.config.latency_frames.max(0.0).ceil() as usize;
+        // Saturating: the configuration is public, and absurd values must
+        // keep everything rather than overflow.
+        let reach = self
+            .config
+            .fit_half_width
+            .saturating_add(self.config.latency_frames.max(0.0).ceil() as usize);
         let keep_from = match self.best {
             Some((_, first, _)) => first.saturating_sub(reach),
-            None => self.count.saturating_sub(reach + 2),
+            None => self.count.saturating_sub(reach.saturating_add(2)),
         };
         while self.history_start < keep_from && !self.history.is_empty() {
             self.history.pop_front();
@@ -222,13 +226,16 @@ impl PeakDetector {
     /// `first..=last`: the middle of a saturated stretch, else the vertex of
     /// the least-squares parabola through the raw weights within
     /// `fit_half_width` frames of `first`, kept within that window.
+    ///
+    /// Indexing: `history` holds frames `history_start..count`, and the
+    /// window `lo..=hi` is clamped to them (`count ≥ 2` here).
     fn locate(&self, first: usize, last: usize) -> f64 {
         if last > first {
             return (first + last) as f64 / 2.0;
         }
         let k = self.config.fit_half_width;
         let lo = first.saturating_sub(k).max(self.history_start);
-        let hi = (first + k).min(self.count - 1);
+        let hi = first.saturating_add(k).min(self.count - 1);
         let samples = (lo..=hi).map(|f| {
             let y = f64::from(self.history[f - self.history_start]);
             (f as f64 - first as f64, y)
@@ -381,5 +388,54 @@ mod tests {
         let mut w = bump(80, 40.0, 0.9);
         w[5] = f32::NAN;
         assert_eq!(detect(&w).len(), 1);
+    }
+
+    #[test]
+    fn absurd_configurations_and_weights_do_not_panic() {
+        let mut w = bump(80, 40.0, 0.9);
+        w.extend([
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            1e30,
+            -1e30,
+            0.9,
+            0.9,
+            0.0,
+            0.0,
+        ]);
+        w.extend(bump(40, 20.0, 1.0));
+        let configs = [
+            PeakDetectorConfig {
+                fit_half_width: usize::MAX,
+                latency_frames: f32::INFINITY,
+                ..unfiltered()
+            },
+            PeakDetectorConfig {
+                fit_half_width: usize::MAX - 1,
+                latency_frames: f32::NAN,
+                min_frames_above: 0,
+                release_frames: 0,
+                ..unfiltered()
+            },
+            PeakDetectorConfig {
+                threshold: f32::NAN,
+                rearm_below: f32::NAN,
+                release: f32::NEG_INFINITY,
+                latency_frames: -5.0,
+                fit_half_width: 0,
+                ..unfiltered()
+            },
+        ];
+        for config in configs {
+            let mut d = PeakDetector::new(config);
+            for x in &w {
+                if let Some(peak) = d.push(*x) {
+                    assert!(
+                        peak.position.is_finite() && peak.position >= 0.0,
+                        "{peak:?}"
+                    );
+                }
+            }
+        }
     }
 }

@@ -69,6 +69,8 @@ pub fn boundary_loops(topology: &Topology) -> Result<Vec<Vec<u32>>, BoundaryErro
         from: u32,
         to: u32,
     }
+    // Indexing: `k < 3` on a triangle, and every vertex (and so `visited`'s
+    // index) comes from the checked `topology`.
     let mut edges: HashMap<(u32, u32), EdgeUse> = HashMap::new();
     for tri in topology.triangles() {
         for k in 0..3 {
@@ -201,6 +203,8 @@ pub enum EyeHoleError {
 /// to the mesh triangles beside them, so the mesh plus its virtual triangles
 /// is consistently oriented; for a mask facing +z their normals face +z.
 pub fn eye_holes(topology: &Topology, neutral: &[Vec3]) -> Result<[EyeHole; 2], EyeHoleError> {
+    // Indexing: `neutral` has one point per vertex of the checked topology
+    // (checked here), and there are exactly four loops, so three inner ones.
     topology.check_positions("neutral", neutral)?;
     let pos = |v: u32| neutral[v as usize].as_dvec3();
     let loops = boundary_loops(topology)?;
@@ -250,6 +254,9 @@ fn fill_eye(
     pos: &impl Fn(u32) -> DVec3,
     side: &'static str,
 ) -> Result<EyeHole, EyeHoleError> {
+    // Indexing: every loop position is `< n` (`first`, `last` and the
+    // chains are taken modulo `n`); past the length check each chain has at
+    // least three positions, and the zip keeps `i ≤ p − 1`, `j ≤ q − 1`.
     let n = eye.len();
     let by_x = |a: &usize, b: &usize| pos(eye[*a]).x.total_cmp(&pos(eye[*b]).x);
     // Loop positions of the corners (first of equals, so the result is
@@ -267,8 +274,11 @@ fn fill_eye(
         .take_while(|&p| p != last)
         .chain([last])
         .collect();
+    // A chain has at least its last corner; when every vertex of the loop
+    // has the same x the two corners coincide, both chains are that one
+    // vertex, and the length check below rejects the eye.
     let mean_inner_y = |chain: &[usize]| {
-        let inner = &chain[1..chain.len() - 1];
+        let inner = chain.get(1..chain.len().saturating_sub(1)).unwrap_or(&[]);
         inner.iter().map(|&p| pos(eye[p]).y).sum::<f64>() / inner.len().max(1) as f64
     };
     let (upper, lower) = if mean_inner_y(&forward) >= mean_inner_y(&backward) {
@@ -452,6 +462,58 @@ mod tests {
                 lower: 0
             }
         );
+    }
+
+    #[test]
+    fn hostile_masks_are_errors_not_panics() {
+        let loop_count = |topo: &Topology, p: &[Vec3]| match eye_holes(topo, p) {
+            Err(EyeHoleError::LoopCount { found, .. }) => found,
+            other => panic!("expected a loop count error, got {other:?}"),
+        };
+        let too_small = |topo: &Topology, p: &[Vec3]| {
+            assert!(
+                matches!(eye_holes(topo, p), Err(EyeHoleError::EyeTooSmall { .. })),
+                "{:?}",
+                eye_holes(topo, p)
+            );
+        };
+        // The face's topology with every vertex at one point, or with the
+        // eyes squashed onto a vertical line: an eye loop whose smallest and
+        // largest x are the same vertex has no lids.
+        let (topo, p, _) = face_grid();
+        too_small(&topo, &vec![Vec3::ZERO; p.len()]);
+        let squashed: Vec<Vec3> = p.iter().map(|q| Vec3::new(0.0, q.y, q.z)).collect();
+        too_small(&topo, &squashed);
+        // A single hole, a closed fan, two disjoint triangles.
+        let (topo, p, _) = grid_with_holes(8, 6, &[(2, 4, 2, 4)], |_, _| Vec3::ZERO);
+        assert_eq!(loop_count(&topo, &p), 2);
+        let fan = Topology::new(7, (0..6).map(|k| [0, 1 + k, 1 + (k + 1) % 6]).collect()).unwrap();
+        assert_eq!(loop_count(&fan, &[Vec3::X; 7]), 1);
+        let two = Topology::new(6, vec![[0, 1, 2], [3, 4, 5]]).unwrap();
+        assert_eq!(loop_count(&two, &[Vec3::ZERO; 6]), 2);
+        // Four disjoint triangles: four loops, but every "eye" has three
+        // vertices, at distinct points or all at one.
+        let four =
+            Topology::new(12, (0..4).map(|t| [3 * t, 3 * t + 1, 3 * t + 2]).collect()).unwrap();
+        let spread: Vec<Vec3> = (0..12)
+            .map(|v| Vec3::new((v % 3) as f32, (v / 3) as f32, 0.0))
+            .collect();
+        too_small(&four, &spread);
+        too_small(&four, &[Vec3::ZERO; 12]);
+        // Two holes touching at a corner: the boundary is not a set of loops.
+        let (topo, p, _) = grid_with_holes(8, 8, &[(2, 3, 2, 3), (3, 4, 3, 4)], |_, _| Vec3::ZERO);
+        assert!(matches!(
+            eye_holes(&topo, &p),
+            Err(EyeHoleError::Boundary(
+                BoundaryError::NonManifoldVertex { .. }
+            ))
+        ));
+        // Positions that do not fit the topology.
+        let (topo, p, _) = face_grid();
+        assert!(matches!(
+            eye_holes(&topo, &p[1..]),
+            Err(EyeHoleError::Geometry(GeometryError::VertexCount { .. }))
+        ));
     }
 
     #[test]

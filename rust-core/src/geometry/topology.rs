@@ -71,6 +71,7 @@ impl Topology {
                         vertex_count,
                     });
                 }
+                // Indexing: `(k + 1) % 3` of a triangle's three corners.
                 if tri[(k + 1) % 3] == index {
                     return Err(TopologyError::Degenerate { triangle: t, index });
                 }

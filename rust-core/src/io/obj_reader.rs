@@ -120,6 +120,7 @@ pub fn parse_obj(path: &Path, text: &str) -> Result<ObjMesh, ObjError> {
                         format!("face has {} corners, expected at least 3", corners.len()),
                     ));
                 }
+                // Indexing: at least three corners, so `k + 1 < len`.
                 for k in 1..corners.len() - 1 {
                     mesh.triangles
                         .push([corners[0], corners[k], corners[k + 1]]);

@@ -24,8 +24,8 @@
 //! factorization. Shapes that were not captured are not unknowns: they keep
 //! their generic shape `T_j` and their contribution is moved to the data side.
 
-use super::error::{PersonalizeError, SingularFit};
-use crate::arkit::{BLENDSHAPE_COUNT, Blendshapes};
+use super::error::{PersonalizeError, SingularFit, check_size};
+use crate::arkit::{BLENDSHAPE_COUNT, Blendshape, Blendshapes};
 use faer::{Mat, Par};
 use glam::{DVec3, Vec3};
 
@@ -51,13 +51,40 @@ pub struct BlendshapeFit<'a> {
     gram: Mat<f64>,
     /// `Wᵀ C r` over the captured shapes: row = shape, column = 3v + axis.
     cross: Mat<f64>,
+    /// Why the parts given to [`BlendshapeFit::new`] do not fit together,
+    /// reported by [`BlendshapeFit::solve`].
+    mismatch: Option<PersonalizeError>,
+}
+
+/// Checks that `weights` has 52 fields and every field and observed mesh
+/// one entry per each of the `n` vertices.
+fn check_sizes(
+    n: usize,
+    weights: &[Vec<f64>],
+    observations: &[Observation<'_>],
+) -> Result<(), PersonalizeError> {
+    check_size(
+        || "regularization weight fields".to_string(),
+        BLENDSHAPE_COUNT,
+        weights.len(),
+    )?;
+    for (shape, d) in Blendshape::ALL.iter().zip(weights) {
+        check_size(|| format!("regularization weights of {shape}"), n, d.len())?;
+    }
+    for (i, o) in observations.iter().enumerate() {
+        check_size(|| format!("observation {i}"), n, o.vertices.len())?;
+    }
+    Ok(())
 }
 
 impl<'a> BlendshapeFit<'a> {
     /// Assembles the fit of the shapes flagged in `captured` (the others
     /// keep their generic shape) to `observations` of a face whose neutral
     /// `B_0` and generic deltas `T_j` are `generic`, with Eq. (3) weights
-    /// `weights` (`D_j`, 52 fields).
+    /// `weights` (`D_j`, 52 fields of one weight per vertex). Parts that do
+    /// not fit together (a field or an observed mesh without one entry per
+    /// vertex of `generic`) make [`BlendshapeFit::solve`] return
+    /// [`PersonalizeError::Size`].
     pub fn new(
         generic: &'a Blendshapes,
         weights: &[Vec<f64>],
@@ -66,6 +93,15 @@ impl<'a> BlendshapeFit<'a> {
     ) -> BlendshapeFit<'a> {
         let neutral = generic.neutral();
         let n = neutral.len();
+        // Indexing: past this check (mismatched parts are replaced by none)
+        // every observed mesh has `n` vertices and `weights` 52 fields of
+        // `n`; shape indices are below 52, and `generic` is a checked set of
+        // 52 deltas of `n` vertices.
+        let mismatch = check_sizes(n, weights, observations).err();
+        let (weights, observations) = match mismatch {
+            Some(_) => (&[][..], &[][..]),
+            None => (weights, observations),
+        };
         let free: Vec<usize> = (0..BLENDSHAPE_COUNT).filter(|j| captured[*j]).collect();
         let fixed: Vec<usize> = (0..BLENDSHAPE_COUNT)
             .filter(|j| !free.contains(j))
@@ -99,6 +135,7 @@ impl<'a> BlendshapeFit<'a> {
             captured: free,
             gram,
             cross,
+            mismatch,
         }
     }
 
@@ -106,6 +143,11 @@ impl<'a> BlendshapeFit<'a> {
     /// and the 52 personalized delta blendshapes; shapes that were not
     /// captured are their generic `T_j`.
     pub fn solve(&self, lambda: f64) -> Result<Blendshapes, PersonalizeError> {
+        if let Some(mismatch) = &self.mismatch {
+            return Err(mismatch.clone());
+        }
+        // Indexing: `x` has `3k` values per vertex (`solve_shared_gram`),
+        // `d2` 52 per vertex, and every shape index is below 52.
         let n = self.cross.ncols() / 3;
         let generic = self.generic.deltas();
         let mut out: Vec<Vec<DVec3>> = generic.to_vec();
@@ -296,6 +338,39 @@ mod tests {
                 assert!((*x - *y).length() < 1e-7);
             }
         }
+    }
+
+    #[test]
+    fn parts_of_different_sizes_are_an_error_not_a_panic() {
+        let n = 4;
+        let generic = Blendshapes::new(vec![DVec3::ZERO; n], shapes(n, 0.0)).unwrap();
+        let d = vec![vec![1.0; n]; 52];
+        let ws = capture_weights();
+        let meshes: Vec<Vec<Vec3>> = ws.iter().map(|_| vec![Vec3::ZERO; n]).collect();
+        let size = |weights: &[Vec<f64>], meshes: &[Vec<Vec3>]| {
+            let obs = captures(&ws, meshes);
+            match BlendshapeFit::new(&generic, weights, &[true; 52], &obs).solve(1.0) {
+                Err(PersonalizeError::Size {
+                    expected, found, ..
+                }) => (expected, found),
+                other => panic!("expected a size error, got {other:?}"),
+            }
+        };
+        let mut short = meshes.clone();
+        short[7].pop();
+        assert_eq!(size(&d, &short), (n, n - 1));
+        let mut long = meshes.clone();
+        long[0].push(Vec3::ZERO);
+        assert_eq!(size(&d, &long), (n, n + 1));
+        assert_eq!(size(&d[..51], &meshes), (52, 51));
+        let mut ragged = d.clone();
+        ragged[3].push(1.0);
+        assert_eq!(size(&ragged, &meshes), (n, n + 1));
+        assert!(
+            BlendshapeFit::new(&generic, &d, &[true; 52], &captures(&ws, &meshes))
+                .solve(1.0)
+                .is_ok()
+        );
     }
 
     #[test]

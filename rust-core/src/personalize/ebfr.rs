@@ -27,7 +27,7 @@
 //! known weights there is one step).
 
 use super::blendshape_fit::solve_shared_gram;
-use super::error::{PersonalizeError, SingularFit};
+use super::error::{PersonalizeError, SingularFit, check_size};
 use super::generic_blendshapes::GenericBlendshapes;
 use crate::arkit::{BLENDSHAPE_COUNT, Blendshapes};
 use crate::geometry::deformation_gradient::RestTriangle;
@@ -50,6 +50,13 @@ pub const BETA: f64 = 0.5;
 pub fn prior_weight(norm: f64) -> f64 {
     ((1.0 + norm) / (KAPPA + norm)).powf(THETA)
 }
+
+// Indexing, throughout this file: the transfer's triangles are checked
+// against its vertex count, which `ebfr_blendshapes` checks is that of every
+// mesh used (the session's own meshes are checked against its topology);
+// per-triangle lists have one entry per triangle of the transfer, per-shape
+// ones 52, shape indices are below 52, and the fitted `x` has `9k` values per
+// triangle.
 
 fn entries(m: DMat3) -> [f64; 9] {
     m.to_cols_array()
@@ -166,12 +173,26 @@ fn example_gradients(
 }
 
 /// EBFR's 52 delta blendshapes on the neutral of `generic`; shapes not
-/// flagged in `captured` keep their generic shape.
+/// flagged in `captured` keep their generic shape. `generic` must be made
+/// for `session`'s topology ([`PersonalizeError::Size`] otherwise).
 pub fn ebfr_blendshapes(
     session: &Session,
     generic: &GenericBlendshapes,
     captured: &[bool; BLENDSHAPE_COUNT],
 ) -> Result<Blendshapes, PersonalizeError> {
+    // These checks make every mesh here fit the transfer's triangles (see
+    // the indexing note above).
+    let n = generic.transfer.vertex_count();
+    check_size(
+        || "session vertices".to_string(),
+        n,
+        session.topology.vertex_count(),
+    )?;
+    check_size(
+        || "generic blendshape vertices".to_string(),
+        n,
+        generic.shapes.vertex_count(),
+    )?;
     let rest = rest_triangles(generic, generic.shapes.neutral(), "neutral scan")?;
     let template_rest = rest_triangles(generic, &to_f64(&session.template.neutral), "template")?;
     let (prior, omega) = priors_and_weights(generic, &session.template, &rest, &template_rest);
@@ -216,4 +237,30 @@ pub fn ebfr_blendshapes(
         deltas[j].clone_from(&generic.shapes.deltas()[j]);
     }
     Ok(generic.shapes.with_deltas(deltas)?)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::arkit::Blendshape;
+    use crate::geometry::topology::Topology;
+    use crate::personalize::generic_blendshapes;
+    use crate::test_support::{face_grid, stretch_session};
+
+    #[test]
+    fn generic_blendshapes_of_another_face_are_an_error_not_a_panic() {
+        let (topology, neutral, _) = face_grid();
+        let face = stretch_session(topology, neutral);
+        let generic = generic_blendshapes(&face).unwrap();
+        let mut captured = [false; BLENDSHAPE_COUNT];
+        captured[Blendshape::JawOpen.index()] = true;
+        assert!(ebfr_blendshapes(&face, &generic, &captured).is_ok());
+
+        let triangle = vec![Vec3::ZERO, Vec3::X * 0.01, Vec3::Y * 0.01];
+        let tiny = stretch_session(Topology::new(3, vec![[0, 1, 2]]).unwrap(), triangle);
+        assert!(matches!(
+            ebfr_blendshapes(&tiny, &generic, &captured),
+            Err(PersonalizeError::Size { found: 3, .. })
+        ));
+    }
 }

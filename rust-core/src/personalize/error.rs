@@ -27,6 +27,39 @@ pub enum PersonalizeError {
     /// Nothing was captured, so there is nothing to personalize from.
     #[error("the session has no captured expressions")]
     NoCaptures,
+    /// Parts given to a fitting step do not fit together: a mesh or a field
+    /// without one entry per vertex, or not one field per shape. Only the
+    /// low-level API ([`BlendshapeFit`](super::blendshape_fit::BlendshapeFit),
+    /// [`ebfr_blendshapes`](super::ebfr::ebfr_blendshapes), …) called with
+    /// parts of different faces gets here; [`personalize`](super::personalize)
+    /// builds every part from one checked session.
+    #[error("{what}: {found} entries, expected {expected}")]
+    Size {
+        /// What was counted.
+        what: String,
+        /// How many there should be.
+        expected: usize,
+        /// How many there are.
+        found: usize,
+    },
+}
+
+/// [`PersonalizeError::Size`] unless `found == expected`; `what` names the
+/// part, and is only formatted on a mismatch.
+pub(crate) fn check_size(
+    what: impl FnOnce() -> String,
+    expected: usize,
+    found: usize,
+) -> Result<(), PersonalizeError> {
+    if found == expected {
+        Ok(())
+    } else {
+        Err(PersonalizeError::Size {
+            what: what(),
+            expected,
+            found,
+        })
+    }
 }
 
 /// A fit failed: the per-vertex system is not positive definite (possible

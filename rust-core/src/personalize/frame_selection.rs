@@ -65,6 +65,7 @@ fn around_captures(
         let from = peak.saturating_sub(reach);
         let to = (peak + reach).min(session.frames.len().saturating_sub(1));
         for f in from..=to {
+            // Indexing: `usable` checks that frame `f` exists.
             if f.abs_diff(peak) < gap || !usable(session, f) {
                 continue;
             }

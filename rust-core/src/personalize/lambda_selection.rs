@@ -17,7 +17,7 @@
 //! a large λ.
 
 use super::blendshape_fit::BlendshapeFit;
-use super::error::PersonalizeError;
+use super::error::{PersonalizeError, check_size};
 use super::frame_selection::validation_frames;
 use crate::arkit::{BLENDSHAPE_COUNT, Blendshapes};
 use crate::session::Session;
@@ -67,16 +67,19 @@ pub struct ValidationError {
 
 impl ValidationError {
     /// Prepares the error over `frames` of `session` for a face with
-    /// neutral `neutral`; frames without a mesh are skipped.
+    /// neutral `neutral`; frames without a mesh of `neutral.len()` vertices,
+    /// and indices past the end of the stream, are skipped.
     pub fn new(session: &Session, neutral: &[DVec3], frames: &[usize]) -> ValidationError {
+        let n = neutral.len();
+        // Indexing: every mesh used has the neutral's `n` vertices.
         let used: Vec<(&[f32; BLENDSHAPE_COUNT], &[Vec3])> = frames
             .iter()
             .filter_map(|&f| {
-                let frame = &session.frames[f];
-                frame.vertices.as_deref().map(|v| (&frame.weights.0, v))
+                let frame = session.frames.get(f)?;
+                let vertices = frame.vertices.as_deref().filter(|v| v.len() == n)?;
+                Some((&frame.weights.0, vertices))
             })
             .collect();
-        let n = neutral.len();
         let w = Mat::from_fn(used.len(), BLENDSHAPE_COUNT, |i, j| f64::from(used[i].0[j]));
         let r = Mat::from_fn(used.len(), 3 * n, |i, c| {
             f64::from(used[i].1[c / 3][c % 3]) - neutral[c / 3][c % 3]
@@ -94,10 +97,17 @@ impl ValidationError {
     /// (their neutral is taken to be the one given to
     /// [`ValidationError::new`]): with `B` the 52 × 3n matrix of all
     /// blendshape coordinates, the sum over vertices is
-    /// `tr(H B Bᵀ) − 2⟨B, C⟩ + Σ‖r‖²`, two matrix products.
-    pub fn mean_squared(&self, shapes: &Blendshapes) -> f64 {
+    /// `tr(H B Bᵀ) − 2⟨B, C⟩ + Σ‖r‖²`, two matrix products. Shapes of
+    /// another vertex count are [`PersonalizeError::Size`].
+    pub fn mean_squared(&self, shapes: &Blendshapes) -> Result<f64, PersonalizeError> {
         let deltas = shapes.deltas();
         let n = self.c.ncols() / 3;
+        // Indexing: 52 deltas (a checked set) of `n` vertices (checked here).
+        check_size(
+            || "blendshapes scored".to_string(),
+            n,
+            shapes.vertex_count(),
+        )?;
         let b = Mat::from_fn(BLENDSHAPE_COUNT, 3 * n, |j, c| deltas[j][c / 3][c % 3]);
         let bbt = &b * b.transpose();
         let mut total = self.constant;
@@ -111,7 +121,7 @@ impl ValidationError {
                 total -= 2.0 * b[(j, c)] * self.c[(j, c)];
             }
         }
-        total.max(0.0) / self.samples.max(1) as f64
+        Ok(total.max(0.0) / self.samples.max(1) as f64)
     }
 }
 
@@ -140,7 +150,7 @@ pub fn choose_lambda(
     let mut scores = Vec::with_capacity(grid.len());
     for &lambda in grid {
         let shapes = fit.solve(lambda)?;
-        let score = error.mean_squared(&shapes);
+        let score = error.mean_squared(&shapes)?;
         scores.push(LambdaScore {
             lambda,
             mean_squared_m2: score,
@@ -224,10 +234,26 @@ mod tests {
             })
             .sum::<f64>()
             / (used.len() * n) as f64;
-        let expanded = ValidationError::new(&session, &neutral, &used).mean_squared(&shapes);
+        let expanded = ValidationError::new(&session, &neutral, &used)
+            .mean_squared(&shapes)
+            .unwrap();
         assert!(
             (direct - expanded).abs() < 1e-12 * direct.max(1e-12),
             "{direct} vs {expanded}"
         );
+
+        // Indices past the stream are skipped; parts of another face are
+        // an error, not a panic.
+        let past = ValidationError::new(&session, &neutral, &[0, 1, 3, 4, usize::MAX]);
+        assert_eq!(past.mean_squared(&shapes), Ok(expanded));
+        let other = ValidationError::new(&session, &neutral[..2], &used);
+        assert!(matches!(
+            other.mean_squared(&shapes),
+            Err(PersonalizeError::Size {
+                expected: 2,
+                found: 3,
+                ..
+            })
+        ));
     }
 }

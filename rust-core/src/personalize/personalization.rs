@@ -100,6 +100,7 @@ fn observations(session: &Session, frames: FitFrames) -> Vec<Observation<'_>> {
         })
         .collect();
     if frames == FitFrames::AroundPeaks {
+        // Indexing: `fit_frames` gives capture and frame indices of `session`.
         let extra = fit_frames(session);
         let mut per_capture = vec![1usize; session.captures.len()];
         for e in &extra {
@@ -149,7 +150,8 @@ pub fn lambda_sweep(
         .collect()
 }
 
-/// Which prompts were captured: the unknowns of the fits.
+/// Which prompts were captured: the unknowns of the fits. (Indexed by
+/// `Blendshape::index()`, always below 52.)
 fn captured_prompts(session: &Session) -> [bool; BLENDSHAPE_COUNT] {
     let mut captured = [false; BLENDSHAPE_COUNT];
     for c in &session.captures {
@@ -171,4 +173,46 @@ fn assemble_fit<'g>(
         &captured_prompts(session),
         &observations(session, frames),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::mesh_boundary::EyeHoleError;
+    use crate::geometry::topology::Topology;
+    use crate::test_support::{face_grid, stretch_session};
+    use glam::Vec3;
+
+    #[test]
+    fn sessions_without_usable_eye_holes_are_errors_not_panics() {
+        // A single triangle, and the face's topology with every template
+        // vertex at one point (no eye has two corners).
+        let triangle = vec![Vec3::ZERO, Vec3::X * 0.01, Vec3::Y * 0.01];
+        let tiny = stretch_session(Topology::new(3, vec![[0, 1, 2]]).unwrap(), triangle);
+        let (topology, neutral, _) = face_grid();
+        let flat = stretch_session(topology, vec![Vec3::ZERO; neutral.len()]);
+        for method in Method::ALL {
+            assert!(matches!(
+                personalize(&tiny, method),
+                Err(PersonalizeError::EyeHoles(EyeHoleError::LoopCount {
+                    found: 1,
+                    ..
+                }))
+            ));
+            assert!(matches!(
+                personalize(&flat, method),
+                Err(PersonalizeError::EyeHoles(EyeHoleError::EyeTooSmall { .. }))
+            ));
+        }
+    }
+
+    #[test]
+    fn every_method_personalizes_a_small_face() {
+        let (topology, neutral, _) = face_grid();
+        let face = stretch_session(topology, neutral);
+        for method in Method::ALL {
+            let p = personalize(&face, method).unwrap();
+            assert_eq!(p.generic_fallback.len(), BLENDSHAPE_COUNT - 1);
+        }
+    }
 }

@@ -51,6 +51,7 @@ impl Template {
 
     /// Delta blendshape of `shape`: `shapes[j] − neutral`.
     pub fn delta(&self, shape: Blendshape) -> Vec<Vec3> {
+        // Indexing: `shapes` has one mesh per blendshape index.
         self.shapes[shape.index()]
             .iter()
             .zip(&self.neutral)

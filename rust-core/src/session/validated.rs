@@ -81,6 +81,7 @@ fn check_expressions(parts: &SessionParts) -> Result<(), SessionError> {
         topo.check_positions(&format!("template {shape}"), mesh)?;
     }
     topo.check_positions("neutral", &parts.neutral)?;
+    // Indexed by `Blendshape::index()`, always below BLENDSHAPE_COUNT.
     let mut seen = [false; BLENDSHAPE_COUNT];
     for capture in &parts.captures {
         let what = format!("capture {}", capture.prompt);

@@ -42,3 +42,37 @@ pub(crate) fn face_grid() -> (Topology, Vec<Vec3>, Vec<Option<u32>>) {
         FACE_NX, FACE_NY, CELL, 2.0, EYES, MOUTH,
     ))
 }
+
+/// A session on `topology` whose template and person are both `neutral`,
+/// every template shape and one captured jawOpen stretching it by 5% in y;
+/// no stream.
+pub(crate) fn stretch_session(topology: Topology, neutral: Vec<Vec3>) -> crate::Session {
+    use crate::arkit::{Blendshape, Weights};
+    use crate::session::{CapturedExpression, DeviceInfo, SessionParts, Template};
+    let stretched: Vec<Vec3> = neutral
+        .iter()
+        .map(|p| *p * Vec3::new(1.0, 1.05, 1.0))
+        .collect();
+    let mut weights = Weights::ZERO;
+    weights.set(Blendshape::JawOpen, 1.0);
+    crate::Session::new(SessionParts {
+        device: DeviceInfo::default(),
+        frame_rate: 60.0,
+        topology,
+        template: Template {
+            neutral: neutral.clone(),
+            shapes: std::array::from_fn(|_| stretched.clone()),
+        },
+        neutral,
+        frames: Vec::new(),
+        captures: vec![CapturedExpression {
+            prompt: Blendshape::JawOpen,
+            frame: None,
+            weights,
+            vertices: stretched,
+        }],
+        tests: Vec::new(),
+        truth: None,
+    })
+    .expect("valid session")
+}

@@ -176,6 +176,8 @@ impl GuidedCapture {
 
     /// The capture of `step`, if any.
     pub fn capture_of(&self, step: Step) -> Option<&Capture> {
+        // Indexing, here and in `slot`: `expressions` has one slot per entry
+        // of PROMPT_ORDER, and `prompt_index` is below that for every shape.
         match step {
             Step::Neutral => self.neutral.as_ref(),
             Step::Expression(shape) => self.expressions[prompt_index(shape)].as_ref(),

@@ -329,3 +329,91 @@ fn bad_frames_are_refused_and_change_nothing() {
     );
     assert_eq!(capture.frames_seen(), seen);
 }
+
+/// A still, tracked neutral frame at `t` with a 4-vertex mesh.
+fn stream_frame(t: f64) -> Frame {
+    Frame {
+        timestamp: t,
+        weights: Weights::ZERO,
+        tracked: true,
+        vertices: Some(vec![glam::Vec3::ZERO; 4]),
+    }
+}
+
+#[test]
+fn arbitrary_frames_and_commands_never_panic() {
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+    let odd = [f32::NAN, f32::INFINITY, f32::NEG_INFINITY, -3.0, 1e30, 1.0];
+    let mut config = config();
+    config.tests = vec![TestPrompt {
+        id: "t".into(),
+        instruction: "Pull a face".into(),
+    }];
+    config.step_timeout = 2.0;
+    let mut capture = GuidedCapture::new(config);
+    let (mut t, mut shape, mut most) = (0.0, Blendshape::JawOpen, 0);
+    for k in 0..20_000 {
+        if k < 120 {
+            // A calm start, so that the neutral scan is taken.
+            t = k as f64 / RATE;
+            capture.push(stream_frame(t)).unwrap();
+            continue;
+        }
+        // Mostly forward in time, sometimes repeated or going back.
+        t += match rng.random_range(0..50) {
+            0 => -0.1,
+            1 => 0.0,
+            _ => 1.0 / RATE,
+        };
+        // Quiet noise, one shape rising and falling, now and then nonsense.
+        if k % 60 == 0 {
+            shape = match capture.progress().current {
+                Some(Step::Expression(asked)) if rng.random_range(0..4) != 0 => asked,
+                _ => Blendshape::ALL[rng.random_range(0..BLENDSHAPE_COUNT)],
+            };
+        }
+        let mut weights = Weights(std::array::from_fn(|_| rng.random_range(0.0..0.02)));
+        weights.set(shape, (k as f32 * 0.05).sin().abs());
+        if rng.random_range(0..20) == 0 {
+            weights.0[rng.random_range(0..BLENDSHAPE_COUNT)] = odd[rng.random_range(0..odd.len())];
+        }
+        let vertices = match rng.random_range(0..10) {
+            0 => None,
+            1 => Some(vec![glam::Vec3::NAN; rng.random_range(0..6)]),
+            _ => Some(vec![glam::Vec3::splat(rng.random_range(-1.0..1.0)); 4]),
+        };
+        let frame = Frame {
+            timestamp: if rng.random_range(0..500) == 0 {
+                f64::NAN
+            } else {
+                t
+            },
+            weights,
+            tracked: rng.random_range(0..8) != 0,
+            vertices,
+        };
+        let _ = capture.push(frame);
+        match rng.random_range(0..1000) {
+            0 => {
+                let _ = capture.skip();
+            }
+            1 => {
+                let shape = Blendshape::ALL[rng.random_range(0..BLENDSHAPE_COUNT)];
+                let _ = capture.retake(Step::Expression(shape));
+            }
+            2 => {
+                let _ = capture.retake(Step::Test(rng.random_range(0..3)));
+            }
+            _ => {}
+        }
+        let progress = capture.progress();
+        assert!(progress.captured <= progress.total);
+        most = most.max(progress.captured);
+        for step in [Step::Neutral, Step::Test(0), Step::Test(7)] {
+            let _ = capture.capture_of(step);
+        }
+    }
+    // The stream got the capture going, so the steps were exercised.
+    assert!(most > 20, "only {most} captures");
+}

@@ -24,6 +24,10 @@
 //! small dense Cholesky factorization of `C Y`. Contacts that close a cycle
 //! would make `C` rank-deficient, so only a spanning forest of them is kept;
 //! the others then hold too, up to the source's own (tiny) gaps.
+//!
+//! Indexing: as in the parent module, every vertex index is checked against
+//! the vertex count in `DeformationTransfer::new`, and the meshes indexed
+//! have that many vertices; contact rows are below the number of contacts.
 
 use super::{CONTACT_FRACTION, DeformationTransfer, TransferError, factor_error};
 use faer::linalg::solvers::Solve;

@@ -196,6 +196,14 @@ fn factor_error(e: impl std::fmt::Debug) -> TransferError {
     TransferError::Factorization(format!("{e:?}"))
 }
 
+// Indexing: every triangle, virtual ones included, is checked against the
+// vertex count `n` in `new()` (through `Topology::new`), and every position
+// slice and displacement field is checked to have `n` entries before it is
+// indexed by vertex (`new()`, `transfer_many()`,
+// `solve_displacement_gradients()`); per-vertex arrays (`unknown`,
+// `component`) have `n` entries, per-triangle ones (`weighted_gradients`,
+// source rest triangles, gradients) one per triangle, and component ids are
+// below `component_count`.
 impl DeformationTransfer {
     /// Sets up transfer onto the target rest mesh `target_rest` (`B₀`) with
     /// connectivity `topology` plus `virtual_triangles` (e.g. the eye
@@ -521,6 +529,77 @@ impl DeformationTransfer {
         match self.unknown[v as usize] {
             PINNED => None,
             r => Some(r as usize),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn corner(v: u32) -> DVec3 {
+        DVec3::new(
+            f64::from(v * 7 % 5),
+            f64::from(v * 3 % 4),
+            0.3 * f64::from(v),
+        ) * 0.01
+    }
+
+    #[test]
+    fn hostile_meshes_and_shapes_are_errors_not_panics() {
+        // Two triangles and an isolated vertex: two components and a lone pin.
+        let topology = Topology::new(7, vec![[0, 1, 2], [3, 4, 5]]).unwrap();
+        let rest: Vec<DVec3> = (0..7).map(corner).collect();
+        assert!(matches!(
+            DeformationTransfer::new(&topology, &[[0, 1, 7]], &rest),
+            Err(TransferError::Topology(_))
+        ));
+        assert!(matches!(
+            DeformationTransfer::new(&topology, &[], &rest[..6]),
+            Err(TransferError::Geometry(_))
+        ));
+        let transfer = DeformationTransfer::new(&topology, &[[0, 2, 4]], &rest).unwrap();
+        let moved: Vec<DVec3> = rest.iter().map(|p| *p * 1.1).collect();
+        let out = transfer
+            .transfer_many(&rest, &[&moved[..], &rest[..]])
+            .unwrap();
+        assert_eq!(out.len(), 2);
+        assert!(out.iter().flatten().all(|d| d.is_finite()));
+        assert!(transfer.transfer_many(&rest, &[&moved[..6]]).is_err());
+        assert!(transfer.transfer_many(&rest[..6], &[&moved[..]]).is_err());
+        let mut nan = moved.clone();
+        nan[6].x = f64::NAN;
+        assert!(transfer.transfer_many(&rest, &[&nan[..]]).is_err());
+        assert!(
+            transfer
+                .transfer_many(&rest, &[] as &[Vec<DVec3>])
+                .unwrap()
+                .is_empty()
+        );
+        // A source whose rest triangles are points.
+        let flat = vec![DVec3::ZERO; 7];
+        assert!(matches!(
+            transfer.transfer_many(&flat, &[&moved[..]]),
+            Err(TransferError::DegenerateTriangle { .. })
+        ));
+        // Coordinates far beyond any face: an error or a result, never a panic.
+        let huge: Vec<DVec3> = rest.iter().map(|p| *p * 1e300).collect();
+        let _ = DeformationTransfer::new(&topology, &[], &huge);
+        let _ = transfer.transfer_many(&huge, &[&rest[..]]);
+        // Gradients that do not match the triangles or the reference fields.
+        let gradients = vec![vec![DMat3::ZERO; 3]];
+        let reference = vec![vec![DVec3::ZERO; 7]];
+        assert!(
+            transfer
+                .solve_displacement_gradients(&gradients, &reference)
+                .is_ok()
+        );
+        for (g, r) in [
+            (vec![vec![DMat3::ZERO; 2]], reference.clone()),
+            (gradients.clone(), vec![]),
+            (gradients.clone(), vec![vec![DVec3::ZERO; 6]]),
+        ] {
+            assert!(transfer.solve_displacement_gradients(&g, &r).is_err());
         }
     }
 }

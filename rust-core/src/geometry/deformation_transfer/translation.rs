@@ -12,6 +12,11 @@
 //!
 //! where `M` is the source motion `S_j − S₀` and `σ` the size ratio of the
 //! target to the source.
+//!
+//! Indexing: as in the parent module, vertex indices are below the vertex
+//! count `n` (checked triangles; `motion` and `delta` have `n` entries) and
+//! component ids below the component count; the union–find forest holds
+//! vertex indices only.
 
 use super::{DeformationTransfer, PINNED, STILL_FRACTION};
 use glam::DVec3;

@@ -242,6 +242,9 @@ fn decode_frames(
     let series_error = |frame: usize, what: &str, reason: String| {
         corrupt(format!("frames[{frame}].{what}"), reason)
     };
+    // Indexing: `frames` and `wire.flags` have `count` entries (checked
+    // above), blocks cover `start..start + len` within `0..count`, and
+    // `with_geometry` holds frame indices below `count`.
     let weight_order = Traversal::identity(BLENDSHAPE_COUNT);
     let mut weights = SeriesDecoder::new(wire.weights, vec![0; BLENDSHAPE_COUNT], &weight_order);
     for start in (0..count).step_by(BLOCK) {
@@ -263,20 +266,21 @@ fn decode_frames(
     let with_geometry: Vec<usize> = (0..count)
         .filter(|&k| wire.flags[k] & FRAME_HAS_VERTICES != 0)
         .collect();
+    // The stream index of the `g`-th frame with geometry (`count` past them).
+    let geometry_frame = |g: usize| with_geometry.get(g).copied().unwrap_or(count);
     let n = neutral_q.len();
     let mut vertices = SeriesDecoder::new(wire.vertices, neutral_q.to_vec(), traversal);
     for chunk in with_geometry.chunks(BLOCK) {
         let block = vertices
             .next_block(chunk.len())
-            .map_err(|e| series_error(with_geometry[e.frame], "vertices", e.reason))?;
+            .map_err(|e| series_error(geometry_frame(e.frame), "vertices", e.reason))?;
         for (&k, q) in chunk.iter().zip(block.chunks_exact(n)) {
             frames[k].vertices = Some(dequantize_mesh(q));
         }
     }
-    vertices.finish().map_err(|e| {
-        let frame = with_geometry.get(e.frame).copied().unwrap_or(count);
-        series_error(frame, "vertices", e.reason)
-    })?;
+    vertices
+        .finish()
+        .map_err(|e| series_error(geometry_frame(e.frame), "vertices", e.reason))?;
     Ok(frames)
 }
 

@@ -16,6 +16,12 @@
 //! (each vertex against its neighbours, `traversal.rs`); time series are in
 //! `series.rs`.
 //! Meshes are laid out planar: all x, then all y, then all z.
+//!
+//! Indexing: a planar mesh of `n` vertices has `3n` values, and the coders
+//! index it with `c · n + i` (`c < 3`, `i < n`) or with value indices from
+//! a [`Traversal`] of its topology; a reference mesh has the same length (it
+//! is decoded with the same traversal). Bytes from the file are only read
+//! through [`Reader`], which checks every position.
 
 use super::error::SessionFileError;
 use super::traversal::Traversal;

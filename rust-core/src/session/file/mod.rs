@@ -139,6 +139,8 @@ fn seal(payload: &[u8]) -> Result<Vec<u8>, SessionFileError> {
 /// Reads a session from the bytes of a session file. Never panics and never
 /// trusts a length it has not checked; the session returned is valid.
 pub fn decode(bytes: &[u8]) -> Result<Session, SessionFileError> {
+    // Indexing: every header slice is taken only after the length check
+    // before it (8, 12, then HEADER_LEN bytes).
     let header = |expected: usize| SessionFileError::Truncated {
         what: "header",
         expected: expected as u64,
@@ -246,6 +248,8 @@ fn deflate(data: &[u8]) -> Result<Vec<u8>, SessionFileError> {
         create_comp_flags_from_zip_params(COMPRESSION_LEVEL.into(), -15, COMPRESSION_STRATEGY);
     let mut compressor = CompressorOxide::new(flags);
     let mut out = vec![0u8; data.len() / 4 + 1024];
+    // Slicing: `written` never passes `out.len()` (the compressor writes at
+    // most the space it is given), and `consumed` is clamped to the input.
     let (mut input, mut written) = (data, 0);
     loop {
         let (status, consumed, produced) = compress(

@@ -20,6 +20,14 @@
 //! time. Within a block the residuals are written value by value in traversal
 //! order, all frames of one value together, as zigzag varints; a vertex that
 //! does not move is a run of zero bytes.
+//!
+//! Indexing: a series' frames have `n = traversal.len()` values (the
+//! reference and every pushed frame; the two callers pass meshes quantized
+//! over the traversal's topology, or 52 weights with
+//! [`Traversal::identity`]); value indices come from the traversal, and a
+//! block's offsets `f · n + j` stay below `frames · n`, the length its
+//! buffers are sized to. What the blob declares is only ever read through
+//! the bounds-checked [`Reader`].
 
 use super::geometry_codec::{Reader, cost, put_varint, reconstruct};
 use super::traversal::Traversal;

@@ -1,5 +1,12 @@
 //! The order in which a mesh's values are coded, and which neighbours
 //! predict each value.
+//!
+//! Indexing: vertex indices come from a checked [`Topology`], so they index
+//! the per-vertex arrays (`start` has `v + 1` entries); the adjacency holds
+//! the `6 · triangles` entries `start` counts. [`Traversal::earlier`] and
+//! [`Traversal::predict`] take a value index `j < len()` and one frame of
+//! `len()` values, which is what every caller (`geometry_codec.rs`,
+//! `series.rs`) passes: meshes quantized over the same topology.
 
 use crate::geometry::topology::Topology;
 

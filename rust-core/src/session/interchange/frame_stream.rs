@@ -94,6 +94,7 @@ pub(super) fn parse_timecode(text: &str) -> Option<(f64, f64)> {
 
 /// One over the median spacing of the timestamps, or [`DEFAULT_FRAME_RATE`].
 pub(super) fn frame_rate(frames: &[Frame]) -> f32 {
+    // Indexing: windows of two, and a median taken only of a non-empty list.
     let mut spacing: Vec<f64> = frames
         .windows(2)
         .map(|w| w[1].timestamp - w[0].timestamp)

@@ -121,11 +121,12 @@ fn read_captures(
     for row in &table.rows {
         let prompt =
             Blendshape::parse(&row.key).map_err(|e| key_error(&expr_csv, row, e.to_string()))?;
-        if let Some(k) = captures.iter().position(|c| c.prompt == prompt) {
-            let message = format!(
-                "prompt {prompt} is captured twice (first on line {})",
-                capture_lines[k]
-            );
+        if let Some((_, first)) = captures
+            .iter()
+            .zip(&capture_lines)
+            .find(|(c, _)| c.prompt == prompt)
+        {
+            let message = format!("prompt {prompt} is captured twice (first on line {first})");
             return Err(key_error(&expr_csv, row, message));
         }
         let mesh =
@@ -165,11 +166,8 @@ fn read_tests(
     let table = read_weight_table(&test_csv, &["id"])?;
     let mut lines = Vec::new();
     for row in &table.rows {
-        if let Some(k) = tests.iter().position(|t| t.id == row.key) {
-            let message = format!(
-                "id {:?} appears twice (first on line {})",
-                row.key, lines[k]
-            );
+        if let Some((_, first)) = tests.iter().zip(&lines).find(|(t, _)| t.id == row.key) {
+            let message = format!("id {:?} appears twice (first on line {first})", row.key);
             return Err(key_error(&test_csv, row, message));
         }
         check_id(&row.key).map_err(|e| key_error(&test_csv, row, e.to_string()))?;

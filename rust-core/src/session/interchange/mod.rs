@@ -106,14 +106,18 @@ pub(super) fn read_mesh(path: &Path, topology: &Topology) -> Result<Vec<Vec3>, I
         });
     }
     let expected = topology.triangles();
-    if let Some(k) =
-        (0..mesh.triangles.len().min(expected.len())).find(|&k| mesh.triangles[k] != expected[k])
-    {
-        let [a, b, c] = mesh.triangles[k].map(|i| i + 1);
-        let [x, y, z] = expected[k].map(|i| i + 1);
+    let first_difference = mesh
+        .triangles
+        .iter()
+        .zip(expected)
+        .enumerate()
+        .find(|(_, (found, wanted))| found != wanted);
+    if let Some((k, (found, wanted))) = first_difference {
+        let [a, b, c] = found.map(|i| i + 1);
+        let [x, y, z] = wanted.map(|i| i + 1);
         return Err(InterchangeError::Faces {
             path: path.to_path_buf(),
-            line: Some(mesh.triangle_lines[k]),
+            line: mesh.triangle_lines.get(k).copied(),
             message: format!(
                 "triangle {} is ({a} {b} {c}), but in template/neutral.obj it is ({x} {y} {z})",
                 k + 1
@@ -203,6 +207,11 @@ mod tests {
             "10:42:31:12.4a",
             "10:61:00:00",
             "a:b:c:d",
+            ":::",
+            "1:2:3:4:5",
+            "00:00:00:.5",
+            "٣:00:00:00",
+            "+1:00:00:00",
         ] {
             assert_eq!(parse_timecode(bad), None, "{bad}");
         }
@@ -217,6 +226,8 @@ mod tests {
             vertices: None,
         };
         assert_eq!(frame_rate(&[]), DEFAULT_FRAME_RATE);
+        assert_eq!(frame_rate(&[frame(1.0), frame(1.0)]), DEFAULT_FRAME_RATE);
+        assert_eq!(frame_rate(&[frame(0.0), frame(0.5)]), 2.0);
         let frames: Vec<_> = [0.0, 0.02, 0.04, 0.1, 0.12]
             .into_iter()
             .map(frame)

@@ -83,6 +83,11 @@ pub fn read_weight_table(path: &Path, keys: &[&str]) -> Result<WeightTable, Inte
 }
 
 /// What the header says: where the key is and which shape each column holds.
+///
+/// Indexing: `columns` has one entry per name and `key_column` is the
+/// position of one of them (both built in [`parse_header`]); [`parse_row`]
+/// checks that a row has as many fields before indexing any, so column
+/// indices fit the names and the fields alike.
 struct Header {
     /// The header cells, trimmed.
     names: Vec<String>,
@@ -130,6 +135,7 @@ fn parse_header(
     let live_link = names.iter().any(|h| h.eq_ignore_ascii_case("timecode"));
     let mut key_column = None;
     let mut columns: Vec<Option<Blendshape>> = Vec::with_capacity(names.len());
+    // Indexed by `Blendshape::index()`, always below BLENDSHAPE_COUNT.
     let mut first_seen = [None::<usize>; BLENDSHAPE_COUNT];
     for (c, name) in names.iter().enumerate() {
         let column = c + 1;
@@ -340,6 +346,40 @@ mod tests {
         assert!(
             m.starts_with("x/w.csv:2: ") && m.contains("2 fields"),
             "{m}"
+        );
+    }
+
+    #[test]
+    fn rows_with_missing_or_extra_fields_are_errors() {
+        let p = Path::new("w.csv");
+        let h = header("prompt");
+        let full = row("jawOpen", "0");
+        let short = full.rsplit_once(',').unwrap().0.to_string();
+        for (text, fields) in [
+            (format!("{h}\n{short}"), 52),
+            (format!("{h}\n{full},0"), 54),
+            (format!("{h}\njawOpen"), 1),
+            (format!("{h}\n,"), 2),
+            (format!("{h}\n{full}\n{short}"), 52),
+        ] {
+            let err = parse_weight_table(p, &text, &["prompt"]).unwrap_err();
+            assert!(
+                matches!(err, InterchangeError::FieldCount { found, .. } if found == fields),
+                "{err}"
+            );
+        }
+        // An empty file or a key column alone have no header to speak of.
+        for text in ["", "\n\n", "prompt\n"] {
+            assert!(matches!(
+                parse_weight_table(p, text, &["prompt"]),
+                Err(InterchangeError::MissingColumn { .. })
+            ));
+        }
+        assert!(
+            parse_weight_table(p, &h, &["prompt"])
+                .unwrap()
+                .rows
+                .is_empty()
         );
     }
 }

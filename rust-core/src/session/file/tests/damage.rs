@@ -4,7 +4,12 @@
 use super::super::wire::{WireSession, bincode_config};
 use super::super::*;
 use super::small_session;
-use crate::session::SessionError;
+use crate::arkit::{Blendshape, Weights};
+use crate::geometry::topology::Topology;
+use crate::session::{
+    CapturedExpression, DeviceInfo, Frame, SessionError, SessionParts, Template, TestExpression,
+};
+use glam::Vec3;
 use rand::{Rng, RngCore, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::alloc::{GlobalAlloc, Layout, System};
@@ -247,12 +252,21 @@ fn random_bytes_never_panic() {
 /// checks are exercised past the CRC and the inflater.
 #[test]
 fn mutated_payloads_with_valid_checksums_never_panic() {
-    let mut rng = ChaCha8Rng::seed_from_u64(11);
-    let session = small_session();
-    let payload = encode::encode_payload(&session).unwrap();
+    let payload = encode::encode_payload(&small_session()).unwrap();
+    let accepted = decode_mutations(&payload, 11, 3_000);
+    // Most mutations must be caught; a few (inside a weight) are harmless.
+    assert!(accepted < 1_500, "{accepted} of 3000 mutations accepted");
+}
+
+/// Decodes `count` random mutations of `payload` (flips, overwrites,
+/// insertions, deletions), each resealed with a valid checksum; returns how
+/// many were accepted. Whatever is accepted must be a valid session that
+/// round-trips.
+fn decode_mutations(payload: &[u8], seed: u64, count: usize) -> usize {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut accepted = 0;
-    for _ in 0..3_000 {
-        let mut p = payload.clone();
+    for _ in 0..count {
+        let mut p = payload.to_vec();
         for _ in 0..rng.random_range(1..4) {
             let at = rng.random_range(0..p.len());
             match rng.random_range(0..5) {
@@ -269,15 +283,98 @@ fn mutated_payloads_with_valid_checksums_never_panic() {
             }
         }
         if let Ok(decoded) = decode(&seal(&p).unwrap()) {
-            // Whatever is accepted is a valid session that round-trips.
             let parts = decoded.clone().into_parts();
             assert_eq!(Session::new(parts).as_ref(), Ok(&decoded));
             assert_eq!(decode(&encode(&decoded).unwrap()).unwrap(), decoded);
             accepted += 1;
         }
     }
-    // Most mutations must be caught; a few (inside a weight) are harmless.
-    assert!(accepted < 1_500, "{accepted} of 3000 mutations accepted");
+    accepted
+}
+
+/// A session over a single triangle, the smallest topology there is, with
+/// a frame stream, a capture and a test expression.
+fn one_triangle_session() -> Session {
+    let neutral = vec![
+        Vec3::ZERO,
+        Vec3::new(0.01, 0.0, 0.0),
+        Vec3::new(0.0, 0.01, 0.0),
+    ];
+    let moved = |dz: f32| -> Vec<Vec3> { neutral.iter().map(|p| *p + Vec3::Z * dz).collect() };
+    let mut weights = Weights::ZERO;
+    weights.set(Blendshape::JawOpen, 0.8);
+    let frames = (0..3)
+        .map(|k| Frame {
+            timestamp: k as f64 / 60.0,
+            weights,
+            tracked: true,
+            vertices: (k != 1).then(|| moved(0.001 * k as f32)),
+        })
+        .collect();
+    Session::new(SessionParts {
+        device: DeviceInfo::default(),
+        frame_rate: 60.0,
+        topology: Topology::new(3, vec![[0, 1, 2]]).unwrap(),
+        template: Template {
+            neutral: neutral.clone(),
+            shapes: std::array::from_fn(|j| moved(0.0001 * j as f32)),
+        },
+        neutral: neutral.clone(),
+        frames,
+        captures: vec![CapturedExpression {
+            prompt: Blendshape::JawOpen,
+            frame: Some(2),
+            weights,
+            vertices: moved(0.002),
+        }],
+        tests: vec![TestExpression {
+            id: "t".into(),
+            frame: None,
+            weights,
+            vertices: moved(0.003),
+        }],
+        truth: None,
+    })
+    .unwrap()
+}
+
+#[test]
+fn tiny_and_mismatched_topologies_are_decoded_or_rejected_without_panicking() {
+    // The smallest topology round-trips, and its mutations never panic.
+    let tiny = one_triangle_session();
+    let decoded = decode(&encode(&tiny).unwrap()).unwrap();
+    assert_eq!(decode(&encode(&decoded).unwrap()).unwrap(), decoded);
+    let payload = payload_of(&tiny);
+    decode_mutations(&payload, 17, 2_000);
+
+    // A topology that does not fit the meshes coded with another one.
+    let p = payload_of(&small_session());
+    let shrunk = edited(&p, |w| {
+        w.vertex_count = 3;
+        w.triangles = vec![[0, 1, 2]];
+    });
+    assert!(matches!(
+        decode(&shrunk),
+        Err(SessionFileError::Corrupt { .. })
+    ));
+    let bytes = edited(&payload, |w| {
+        w.vertex_count = 4;
+        w.triangles = vec![[0, 1, 2], [1, 3, 2]];
+    });
+    assert!(decode(&bytes).is_err());
+    // Same vertex count, other connectivity: the spatial predictions change,
+    // so the values decode differently or not at all, but never panic.
+    for triangles in [vec![[0, 1, 2]], vec![[29, 0, 1], [0, 29, 2], [5, 6, 7]]] {
+        let bytes = edited(&p, |w| w.triangles = triangles);
+        let _ = decode(&bytes);
+    }
+    // Triangles that are no triangles, and no vertices at all.
+    let bytes = edited(&payload, |w| w.triangles = vec![[0, 0, 1]]);
+    assert!(matches!(decode(&bytes), Err(SessionFileError::Topology(_))));
+    let bytes = edited(&payload, |w| w.triangles = Vec::new());
+    assert!(matches!(decode(&bytes), Err(SessionFileError::Topology(_))));
+    let bytes = edited(&payload, |w| w.vertex_count = 0);
+    assert!(decode(&bytes).is_err());
 }
 
 #[test]

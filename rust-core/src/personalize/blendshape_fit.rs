@@ -102,15 +102,15 @@ impl<'a> BlendshapeFit<'a> {
             Some(_) => (&[][..], &[][..]),
             None => (weights, observations),
         };
-        let free: Vec<usize> = (0..BLENDSHAPE_COUNT).filter(|j| captured[*j]).collect();
+        let unknowns: Vec<usize> = (0..BLENDSHAPE_COUNT).filter(|j| captured[*j]).collect();
         let fixed: Vec<usize> = (0..BLENDSHAPE_COUNT)
-            .filter(|j| !free.contains(j))
+            .filter(|j| !unknowns.contains(j))
             .collect();
-        let k = free.len();
+        let k = unknowns.len();
         let m = observations.len();
         // W (m × k) scaled by √c_i, and residuals r_i = S_i − B_0 − Σ_fixed w_ij T_j.
         let w = Mat::from_fn(m, k, |i, a| {
-            observations[i].importance.sqrt() * observations[i].weights[free[a]]
+            observations[i].importance.sqrt() * observations[i].weights[unknowns[a]]
         });
         let r = Mat::from_fn(m, 3 * n, |i, c| {
             let (v, axis) = (c / 3, c % 3);
@@ -132,7 +132,7 @@ impl<'a> BlendshapeFit<'a> {
         BlendshapeFit {
             generic,
             d2,
-            captured: free,
+            captured: unknowns,
             gram,
             cross,
             mismatch,
@@ -151,19 +151,19 @@ impl<'a> BlendshapeFit<'a> {
         let n = self.cross.ncols() / 3;
         let generic = self.generic.deltas();
         let mut out: Vec<Vec<DVec3>> = generic.to_vec();
-        let free = &self.captured;
-        let k = free.len();
+        let unknowns = &self.captured;
+        let k = unknowns.len();
         let x = solve_shared_gram(
             &self.gram,
             n,
             3,
-            |v, a| lambda * self.d2[v * BLENDSHAPE_COUNT + free[a]],
+            |v, a| lambda * self.d2[v * BLENDSHAPE_COUNT + unknowns[a]],
             |v, a, axis| self.cross[(a, 3 * v + axis)],
-            |v, a, axis| generic[free[a]][v][axis],
+            |v, a, axis| generic[unknowns[a]][v][axis],
         )
         .map_err(|vertex| SingularFit { vertex, lambda })?;
         for v in 0..n {
-            for (a, &j) in free.iter().enumerate() {
+            for (a, &j) in unknowns.iter().enumerate() {
                 let b = &x[(v * k + a) * 3..(v * k + a) * 3 + 3];
                 out[j][v] = DVec3::new(b[0], b[1], b[2]);
             }

@@ -196,13 +196,13 @@ pub fn ebfr_blendshapes(
     let rest = rest_triangles(generic, generic.shapes.neutral(), "neutral scan")?;
     let template_rest = rest_triangles(generic, &to_f64(&session.template.neutral), "template")?;
     let (prior, omega) = priors_and_weights(generic, &session.template, &rest, &template_rest);
-    let free: Vec<usize> = (0..BLENDSHAPE_COUNT).filter(|j| captured[*j]).collect();
+    let unknowns: Vec<usize> = (0..BLENDSHAPE_COUNT).filter(|j| captured[*j]).collect();
     let uncaptured: Vec<usize> = (0..BLENDSHAPE_COUNT).filter(|j| !captured[*j]).collect();
     let examples = example_gradients(session, generic, &rest, &prior, &uncaptured);
 
     // Per triangle: (WᵀW + β ω) X = WᵀE + β ω D*, over the captured shapes.
-    let w = Mat::from_fn(session.captures.len(), free.len(), |i, a| {
-        f64::from(session.captures[i].weights.0[free[a]])
+    let w = Mat::from_fn(session.captures.len(), unknowns.len(), |i, a| {
+        f64::from(session.captures[i].weights.0[unknowns[a]])
     });
     let gram = w.transpose() * &w;
     let cross = w.transpose() * &examples;
@@ -211,18 +211,18 @@ pub fn ebfr_blendshapes(
         &gram,
         nt,
         9,
-        |t, a| BETA * omega.get(free[a], t),
+        |t, a| BETA * omega.get(unknowns[a], t),
         |t, a, c| cross[(a, 9 * t + c)],
-        |t, a, c| entries(prior.get(free[a], t))[c],
+        |t, a, c| entries(prior.get(unknowns[a], t))[c],
     )
     .map_err(|triangle| SingularFit {
         vertex: triangle,
         lambda: BETA,
     })?;
     let mut gradients: Vec<Vec<DMat3>> = prior.values.chunks(nt).map(<[DMat3]>::to_vec).collect();
-    let k = free.len();
+    let k = unknowns.len();
     for t in 0..nt {
-        for (a, &j) in free.iter().enumerate() {
+        for (a, &j) in unknowns.iter().enumerate() {
             let e = &x[(t * k + a) * 9..(t * k + a) * 9 + 9];
             gradients[j][t] = DMat3::from_cols_slice(e);
         }

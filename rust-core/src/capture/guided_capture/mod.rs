@@ -11,6 +11,12 @@
 //! ([`test_intensity`]) above each weight's minimum since the step began. Untracked frames are not fed to the detectors
 //! (ARKit repeats its last estimate while it has lost the face) but are
 //! remembered for the [`CaptureQuality::tracking_lost`] flag.
+//!
+//! | paper | what | file |
+//! |---|---|---|
+//! | §3.1 "scans their own face in a neutral expression" | every weight low and the face still for a second | [`neutral_detector`] |
+//! | §3.1 "captures the facial expression when the requested expression is performed to a sufficient extent" | weak, dominated, tracking lost | [`capture_quality`] |
+//! | §3.1 | steps, events, skip, retake, timeouts (the types here) | `mod.rs`, `state_machine.rs` |
 
 pub mod capture_quality;
 pub mod neutral_detector;

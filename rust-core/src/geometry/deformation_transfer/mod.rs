@@ -83,6 +83,14 @@
 //! scaled copy, the unconstrained solution already satisfies the contacts and
 //! nothing changes. [`DeformationTransfer::with_contacts`] switches them off
 //! for a plain Sumner–Popović transfer.
+//!
+//! # Files
+//!
+//! | paper | what | file |
+//! |---|---|---|
+//! | Botsch et al. 2006, Eq. `L X' = R` | the factored system, right-hand sides, solves | `mod.rs` |
+//! | §3.2 "eyes are completely closed" | lid contacts as constraints on the factored system | `contacts.rs` |
+//! | (ours) | the translation gradients do not see, per component | `translation.rs` |
 
 use super::deformation_gradient::{RestTriangle, hat_gradients, triangle_area};
 use super::topology::{GeometryError, Topology, TopologyError};

@@ -64,6 +64,17 @@
 //! brotli's context modelling beats DEFLATE clearly only at quality 11, far
 //! too slow to run on a phone after every session. Before spatial prediction
 //! (`series.rs`) the simulator session took 17.6 MB.
+//!
+//! # Files
+//!
+//! | what | file |
+//! |---|---|
+//! | header, checksum, compression, the limits | `mod.rs` |
+//! | the bincode structure of the payload | `wire.rs` |
+//! | session → payload; payload → session, trusting nothing | `encode.rs`, `decode.rs` |
+//! | meshes and weights as quantized, predicted varint blobs | `geometry_codec.rs`, `series.rs` |
+//! | the vertex order in which neighbours predict each other | `traversal.rs` |
+//! | what can go wrong, naming the field | `error.rs` |
 
 mod decode;
 mod encode;

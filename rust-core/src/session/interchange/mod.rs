@@ -49,6 +49,16 @@
 //! place for: device information (imported as model `imported`), frame
 //! meshes, the `tracked` flags (imported frames are tracked), the frame
 //! indices of captures and tests, and simulator ground truth.
+//!
+//! # Files
+//!
+//! | what | file |
+//! |---|---|
+//! | folder → session, one part of the layout at a time | `import.rs` |
+//! | session → folder | `export.rs` |
+//! | the CSV dialect and weight tables | [`weights_csv`] |
+//! | `frames.csv`: plain or Live Link Face timecodes | `frame_stream.rs` |
+//! | errors naming file, line and column | `error.rs` |
 
 mod error;
 mod export;

@@ -11,8 +11,17 @@
 //!
 //! **Weights.** ARKit estimates the 52 weights with its own generic model, so
 //! they are a distorted view of the true activations: per-shape gain and
-//! bias, cross-talk between shapes that move the same skin, white noise,
-//! exponential temporal smoothing, and clamping to `[0, 1]`.
+//! bias, cross-talk between shapes that move the same skin, sensor noise,
+//! light temporal smoothing, and clamping to `[0, 1]`. The noise and the
+//! smoothing are measured on real Live Link Face takes (sim-data/README.md,
+//! "The tracker"): at rest real weights wander slowly and smoothly (the
+//! first differences are strongly correlated from one frame to the next),
+//! yet a blink rises from 10% to 90% within two frames. So ARKit filters
+//! small changes heavily and follows large ones at once, as an adaptive
+//! filter does (the 1€ filter of Casiez, Roussel & Vogel 2012 behaves so).
+//! The simulation separates the two: the noise is white noise through two
+//! cascaded exponential filters ([`WEIGHT_NOISE_FILTER`]), slow and smooth;
+//! the signal passes one light exponential filter ([`WEIGHT_SMOOTHING`]).
 
 use glam::{DVec3, Vec3};
 use likeness::{BLENDSHAPE_COUNT, Blendshape, Weights};
@@ -28,13 +37,29 @@ pub const MESH_NOISE_RMS: (f64, f64) = (0.0001, 0.0003);
 pub const MESH_NOISE_TAU: f64 = 0.3;
 /// Range of a person's per-shape weight gain.
 pub const WEIGHT_GAIN: (f64, f64) = (0.85, 1.05);
-/// Mean and standard deviation of a per-shape weight bias.
-pub const WEIGHT_BIAS: (f64, f64) = (0.01, 0.01);
-/// Standard deviation of the per-frame weight noise before smoothing.
-pub const WEIGHT_NOISE_SD: f64 = 0.015;
-/// Exponential smoothing factor of the weights per frame (0.5 ≈ one frame
-/// of lag at 60 fps).
-pub const WEIGHT_SMOOTHING: f64 = 0.5;
+/// Mean and standard deviation of a per-shape weight bias. Below zero the
+/// clamp holds the weight at 0 at rest: with noise, about 70% of the
+/// channels rest at exactly 0, as 34–41 of 52 do in the real takes.
+pub const WEIGHT_BIAS: (f64, f64) = (-0.005, 0.03);
+/// Standard deviation of the weight noise (stationary, after its filter).
+/// With [`WEIGHT_NOISE_FILTER`] it reproduces the real takes' noise at
+/// rest: residual σ 7–9 × 10⁻⁴ after a quadratic fit over half a second,
+/// σ of second differences 2.4–3.2 × 10⁻⁴.
+pub const WEIGHT_NOISE_SD: f64 = 0.0065;
+/// Coefficient of each of the two cascaded exponential filters that make
+/// the noise smooth: the real takes' first differences at rest have a lag-1
+/// autocorrelation of 0.78–0.80; white noise through two filters of 0.08
+/// gives about 0.76 (a single filter cannot make it positive).
+pub const WEIGHT_NOISE_FILTER: f64 = 0.08;
+/// Exponential smoothing factor of the signal per frame: a step rises from
+/// 10% to 90% within one frame (the real takes' fastest blinks take two,
+/// the lid's own closing included), a group delay of (1 − 0.7)/0.7 ≈ 0.4
+/// frame.
+pub const WEIGHT_SMOOTHING: f64 = 0.7;
+
+/// Frames the noise filters run before the first frame, so the noise is
+/// stationary from the start (ten time constants of the filters).
+const NOISE_WARM_UP: usize = 250;
 
 /// Tracker cross-talk: `(source, lights up, base amount)`; each person's
 /// amount is the base times a factor in 0.5–1.5. Pairs that move the same
@@ -63,6 +88,8 @@ pub struct Tracker {
     bias: [f64; BLENDSHAPE_COUNT],
     crosstalk: Vec<(usize, usize, f64)>,
     smoothed: Option<[f64; BLENDSHAPE_COUNT]>,
+    /// The two stages of each channel's noise filter.
+    noise: [[f64; 2]; BLENDSHAPE_COUNT],
     fields: Vec<Vec<DVec3>>,
     coefficients: Vec<f64>,
     rho: f64,
@@ -117,16 +144,44 @@ impl Tracker {
         let coefficients = (0..MESH_NOISE_FIELDS)
             .map(|_| normal.sample(&mut rng))
             .collect();
-        Tracker {
+        let mut tracker = Tracker {
             gain,
             bias,
             crosstalk,
             smoothed: None,
+            noise: [[0.0; 2]; BLENDSHAPE_COUNT],
             fields,
             coefficients,
             rho: (-1.0 / (frame_rate * MESH_NOISE_TAU)).exp(),
             rng,
+        };
+        // Run the noise filters into their stationary state.
+        for _ in 0..NOISE_WARM_UP {
+            tracker.next_noise();
         }
+        tracker
+    }
+
+    /// The next frame's noise of every channel: white noise through two
+    /// cascaded exponential filters of coefficient `β`
+    /// ([`WEIGHT_NOISE_FILTER`]). Their impulse response is
+    /// `β² (k + 1) (1 − β)^k`, so the stationary variance is
+    /// `β⁴ (1 + ρ²) / (1 − ρ²)³` times the input's, `ρ = 1 − β`; the input
+    /// is scaled so the output's σ is [`WEIGHT_NOISE_SD`].
+    fn next_noise(&mut self) -> [f64; BLENDSHAPE_COUNT] {
+        let beta = WEIGHT_NOISE_FILTER;
+        let rho2 = (1.0 - beta) * (1.0 - beta);
+        let gain = beta.powi(4) * (1.0 + rho2) / (1.0 - rho2).powi(3);
+        let input_sd = WEIGHT_NOISE_SD / gain.sqrt();
+        let normal = Normal::new(0.0, 1.0).expect("unit normal");
+        let mut out = [0.0; BLENDSHAPE_COUNT];
+        for (stages, o) in self.noise.iter_mut().zip(out.iter_mut()) {
+            let e = input_sd * normal.sample(&mut self.rng);
+            stages[0] += beta * (e - stages[0]);
+            stages[1] += beta * (stages[0] - stages[1]);
+            *o = stages[1];
+        }
+        out
     }
 
     /// One frame: the reported weights for true activations `a`, and the
@@ -142,15 +197,15 @@ impl Tracker {
         for (from, to, amount) in &self.crosstalk {
             raw[*to] += amount * a[*from];
         }
-        for r in raw.iter_mut() {
-            *r += WEIGHT_NOISE_SD * normal.sample(&mut self.rng);
-        }
         let smoothed = match self.smoothed {
             None => raw,
             Some(prev) => std::array::from_fn(|j| prev[j] + WEIGHT_SMOOTHING * (raw[j] - prev[j])),
         };
         self.smoothed = Some(smoothed);
-        let weights = Weights(smoothed.map(|w| w.clamp(0.0, 1.0) as f32));
+        let noise = self.next_noise();
+        let weights = Weights(std::array::from_fn(|j| {
+            (smoothed[j] + noise[j]).clamp(0.0, 1.0) as f32
+        }));
         let innovation = (1.0 - self.rho * self.rho).sqrt();
         for c in self.coefficients.iter_mut() {
             *c = self.rho * *c + innovation * normal.sample(&mut self.rng);

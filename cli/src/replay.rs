@@ -4,6 +4,7 @@
 use crate::CliResult;
 use likeness::capture::guided_capture::{GuidedCaptureConfig, Step};
 use likeness::capture::replay::{ReplayReport, ReplayedStep, replay_frames, replay_session};
+use likeness::capture::stream_summary::{ShapeActivity, is_guided, shape_activity};
 use serde::Serialize;
 use std::io::Read;
 use std::path::Path;
@@ -36,7 +37,22 @@ struct ReplayJson {
     /// Largest |capture − true peak| over the 52 prompts (simulated only).
     max_frame_error: Option<u64>,
     max_test_frame_error: Option<u64>,
+    /// Whether the stream followed the guided capture; when it did not
+    /// (a free performance), `activity` says what it holds.
+    guided: bool,
     steps: Vec<StepJson>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    activity: Option<Vec<ActivityJson>>,
+}
+
+/// One shape of a stream that is no guided session.
+#[derive(Serialize)]
+struct ActivityJson {
+    name: &'static str,
+    peak: f32,
+    peak_frame: usize,
+    peak_time: f64,
+    active_frames: usize,
 }
 
 /// Runs `likeness replay FILE [--json]`: a session file, or a Live Link Face
@@ -49,18 +65,21 @@ pub fn replay_command(file: &Path, json: bool) -> CliResult {
         f.read_exact(&mut head).is_ok() && head == likeness::session::file::MAGIC
     };
     let config = GuidedCaptureConfig::default();
-    let (input, report, elapsed) = if is_session {
+    let (input, report, elapsed, activity) = if is_session {
         let session = crate::info::read_session(file)?;
+        let activity = shape_activity(&session.frames);
         let start = Instant::now();
         let report = replay_session(session, config)?;
-        ("session", report, start.elapsed())
+        ("session", report, start.elapsed(), activity)
     } else {
         let frames = likeness::session::interchange::read_frames(file)?;
+        let activity = shape_activity(&frames);
         let start = Instant::now();
         let report = replay_frames(frames, config, |_| None)?;
-        ("weights-csv", report, start.elapsed())
+        ("weights-csv", report, start.elapsed(), activity)
     };
     let elapsed_ms = elapsed.as_secs_f64() * 1e3;
+    let guided = is_guided(&report);
     if json {
         let out = ReplayJson {
             input,
@@ -71,13 +90,66 @@ pub fn replay_command(file: &Path, json: bool) -> CliResult {
             elapsed_ms,
             max_frame_error: report.max_frame_error(),
             max_test_frame_error: report.max_test_frame_error(),
+            guided,
             steps: report.steps.iter().map(step_json).collect(),
+            activity: (!guided).then(|| activity.iter().map(activity_json).collect()),
         };
         println!("{}", serde_json::to_string_pretty(&out)?);
-    } else {
+    } else if guided {
         print_table(&report, input, elapsed_ms);
+    } else {
+        print_activity(file, &report, &activity);
     }
     Ok(())
+}
+
+fn activity_json(a: &ShapeActivity) -> ActivityJson {
+    ActivityJson {
+        name: a.shape.name(),
+        peak: a.peak,
+        peak_frame: a.peak_frame,
+        peak_time: a.peak_time,
+        active_frames: a.active_frames,
+    }
+}
+
+/// For a stream that is no guided session: says so, then each shape that
+/// moved, by peak.
+fn print_activity(file: &Path, report: &ReplayReport, activity: &[ShapeActivity]) {
+    let prompts = report
+        .steps
+        .iter()
+        .filter(|s| matches!(s.step, Step::Expression(_)));
+    let captured = prompts.clone().filter(|s| s.frame.is_some()).count();
+    println!(
+        "No guided session found in {}: the guided capture took only {captured} of its {} \
+         prompts (each waits up to 10 s for its own expression), so this is a free \
+         performance, not a guided session.\n\
+         What its {} frames hold, by peak (active: weight ≥ 0.5):\n",
+        file.display(),
+        prompts.count(),
+        report.frames
+    );
+    println!(
+        "{:<22} {:>6} {:>8} {:>9} {:>13}",
+        "shape", "peak", "frame", "time s", "active frames"
+    );
+    let mut moved: Vec<&ShapeActivity> = activity.iter().filter(|a| a.peak >= 0.05).collect();
+    moved.sort_by(|a, b| b.peak.total_cmp(&a.peak));
+    for a in &moved {
+        println!(
+            "{:<22} {:>6.3} {:>8} {:>9.2} {:>13}",
+            a.shape.name(),
+            a.peak,
+            a.peak_frame,
+            a.peak_time,
+            a.active_frames
+        );
+    }
+    println!(
+        "\n{} of 52 shapes reached 0.05; the others stayed below.",
+        moved.len()
+    );
 }
 
 fn step_json(s: &ReplayedStep) -> StepJson {

@@ -237,3 +237,61 @@ fn replay_reads_a_live_link_face_csv_and_names_bad_lines() {
     assert!(!message.contains("panicked"), "{message}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn replay_of_a_free_performance_says_so_and_summarizes_it() {
+    use likeness::{Blendshape, Frame, Weights};
+    let dir = std::env::temp_dir().join(format!("likeness-cli-free-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // Twenty seconds of talking: the jaw opens and closes three times a
+    // second, the brows rise once; no prompt is followed.
+    let frames: Vec<Frame> = (0..1200)
+        .map(|k| {
+            let t = k as f64 / 60.0;
+            let mut weights = Weights::ZERO;
+            weights.set(
+                Blendshape::JawOpen,
+                (0.35 + 0.3 * (std::f64::consts::TAU * 3.0 * t).sin()) as f32,
+            );
+            let brow = (-(t - 12.0).powi(2) / 0.5).exp();
+            weights.set(Blendshape::BrowInnerUp, (0.8 * brow) as f32);
+            Frame {
+                timestamp: t,
+                weights,
+                tracked: true,
+                vertices: None,
+            }
+        })
+        .collect();
+    let csv = dir.join("talking.csv");
+    std::fs::write(&csv, likeness_tests::live_link::live_link_csv(&frames)).unwrap();
+    let text = likeness(&["replay", csv.to_str().unwrap()]);
+    assert!(text.status.success(), "{}", stderr(&text));
+    let out = String::from_utf8_lossy(&text.stdout);
+    assert!(out.starts_with("No guided session found in"), "{out}");
+    assert!(out.contains("free performance"), "{out}");
+    let jaw = out
+        .lines()
+        .find(|l| l.starts_with("jawOpen"))
+        .expect("jawOpen listed");
+    assert!(jaw.contains("0.650"), "{jaw}");
+    let json = likeness(&["replay", csv.to_str().unwrap(), "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&json.stdout).unwrap();
+    assert_eq!(v["guided"], false);
+    let activity = v["activity"].as_array().unwrap();
+    assert_eq!(activity.len(), 52);
+    let brow = activity
+        .iter()
+        .find(|a| a["name"] == "browInnerUp")
+        .unwrap();
+    assert!(
+        (brow["peak_time"].as_f64().unwrap() - 12.0).abs() < 0.05,
+        "{brow}"
+    );
+    // A guided session replays as before.
+    let session = likeness(&["replay", &sample(), "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&session.stdout).unwrap();
+    assert_eq!(v["guided"], true);
+    assert!(v.get("activity").is_none());
+    std::fs::remove_dir_all(&dir).unwrap();
+}

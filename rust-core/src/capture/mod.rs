@@ -8,8 +8,10 @@
 //! | §3.1 "guides the user through the recording session" | the order of the 52 prompts and their instructions | [`prompt_order`] |
 //! | §3.1 | neutral scan, prompts, test expressions, skip, retake, quality flags, events | [`guided_capture`] |
 //! | §3.1, §4 | a recorded stream through the state machine, against the true peaks | [`replay`] |
+//! | | a stream that is no guided session: each shape's peak and activity | [`stream_summary`] |
 
 pub mod guided_capture;
 pub mod peak_detector;
 pub mod prompt_order;
 pub mod replay;
+pub mod stream_summary;

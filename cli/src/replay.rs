@@ -22,6 +22,9 @@ struct StepJson {
     weak: bool,
     dominated_by: Option<String>,
     tracking_lost: bool,
+    /// Neutral scan: the shape the face rests highest on, when it rests
+    /// high.
+    high_rest: Option<String>,
 }
 
 /// What `replay --json` prints.
@@ -167,6 +170,7 @@ fn step_json(s: &ReplayedStep) -> StepJson {
         weak: s.quality.weak,
         dominated_by: s.quality.dominated_by.map(|b| b.name().to_string()),
         tracking_lost: s.quality.tracking_lost,
+        high_rest: s.quality.high_rest.map(|b| b.name().to_string()),
     }
 }
 
@@ -189,6 +193,9 @@ fn print_table(report: &ReplayReport, input: &str, elapsed_ms: f64) {
         }
         if s.quality.tracking_lost {
             flags.push("tracking lost".into());
+        }
+        if let Some(r) = s.quality.high_rest {
+            flags.push(format!("rests high on {r}"));
         }
         if s.frame.is_some() && !s.has_mesh {
             flags.push("no mesh".into());

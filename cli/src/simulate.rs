@@ -40,7 +40,13 @@ pub fn simulate(seed: u64, geometry_window: Option<f64>, out: &Path) -> CliResul
         )
         .into());
     }
-    let session = simulate_with_bar(seed, SimulationOptions { geometry_window });
+    let session = simulate_with_bar(
+        seed,
+        SimulationOptions {
+            geometry_window,
+            ..SimulationOptions::default()
+        },
+    );
     session_file::write(out, &session)?;
     let size = std::fs::metadata(out)?.len();
     eprintln!(

@@ -71,6 +71,7 @@ fn main() {
         let seed: u64 = seed.parse().expect("a seed number");
         let options = SimulationOptions {
             geometry_window: Some(0.0),
+            ..SimulationOptions::default()
         };
         let session = simulate_session_with(seed, options, &mut |_, _| {});
         print(

@@ -26,6 +26,7 @@ fn main() {
         // Meshes are not needed to find the peaks; skip storing them.
         let options = SimulationOptions {
             geometry_window: Some(0.0),
+            ..SimulationOptions::default()
         };
         let session = simulate_session_with(seed, options, &mut |_, _| {});
         let report = replay_session(session, GuidedCaptureConfig::default()).expect("replays");

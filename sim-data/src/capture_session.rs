@@ -18,7 +18,7 @@ use crate::performance::{NEUTRAL_SCAN_AT, perform_session};
 use crate::subject::Subject;
 use crate::template::{generic_template, to_f32};
 use crate::timeline::{PromptTrack, Timeline, frame_at};
-use crate::tracker::Tracker;
+use crate::tracker::{Tracker, high_rest_offsets};
 use glam::Vec3;
 use likeness::{
     BLENDSHAPE_COUNT, Blendshape, CapturedExpression, DeviceInfo, Frame, GroundTruth, Session,
@@ -47,6 +47,11 @@ pub struct SimulationOptions {
     /// samples use [`SAMPLE_GEOMETRY_WINDOW`] to stay within the
     /// repository's budget.
     pub geometry_window: Option<f64>,
+    /// Groups of shapes (a shape and its mirror) on which the person's
+    /// relaxed face rests high, at 0.3–0.5, as ARKit reports some real
+    /// faces (a brow that rests low reads as browDown); 0, the default, for
+    /// none. See [`crate::tracker::high_rest_offsets`].
+    pub high_rest_groups: usize,
 }
 
 /// Simulates the full session of the subject drawn from `seed`, with every
@@ -65,7 +70,8 @@ pub fn simulate_session_with(
     let mask = face_mask();
     let subject = Subject::from_seed(seed);
     let timeline = perform_session(seed, FRAME_RATE);
-    let tracker = Tracker::new(seed, &mask.uv, FRAME_RATE);
+    let tracker = Tracker::new(seed, &mask.uv, FRAME_RATE)
+        .with_rest_offsets(high_rest_offsets(seed, options.high_rest_groups));
     let Recording {
         mut frames,
         true_faces,

@@ -82,6 +82,53 @@ pub const CROSSTALK: [(Blendshape, Blendshape, f64); 12] = {
     ]
 };
 
+/// Shapes on which some people's relaxed faces rest high, as groups of a
+/// shape and its mirror: the shapes that rest highest in the real takes
+/// (eyeSquint, browInnerUp, mouthSmile, cheekSquint, browDown, mouthRollLower
+/// and mouthShrugLower rest at 0.04–0.16 even after Live Link Face's
+/// neutral-pose calibration), and mouthFrown and mouthPress, which a
+/// downturned or pressed resting mouth shows.
+pub const HIGH_REST_CANDIDATES: [Blendshape; 9] = {
+    use Blendshape::*;
+    [
+        BrowDownLeft,
+        BrowInnerUp,
+        EyeSquintLeft,
+        CheekSquintLeft,
+        MouthSmileLeft,
+        MouthFrownLeft,
+        MouthShrugLower,
+        MouthRollLower,
+        MouthPressLeft,
+    ]
+};
+
+/// Range of a high resting level (the issue of real users: some shapes rest
+/// at 0.3–0.5).
+pub const HIGH_REST_LEVEL: (f64, f64) = (0.3, 0.5);
+
+/// Resting offsets of the weights of a person whose face rests high on
+/// `groups` of [`HIGH_REST_CANDIDATES`] (a shape and its mirror, each side
+/// within ±0.03 of the group's level), drawn from `seed`; all zero for
+/// `groups == 0`. Drawn apart from the tracker's own randomness, so a
+/// session without them is unchanged.
+pub fn high_rest_offsets(seed: u64, groups: usize) -> [f64; BLENDSHAPE_COUNT] {
+    let mut offsets = [0.0; BLENDSHAPE_COUNT];
+    if groups == 0 {
+        return offsets;
+    }
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x5245_5354_4849_4748); // "RESTHIGH"
+    let mut candidates = HIGH_REST_CANDIDATES.to_vec();
+    for _ in 0..groups.min(candidates.len()) {
+        let shape = candidates.swap_remove(rng.random_range(0..candidates.len()));
+        let level = rng.random_range(HIGH_REST_LEVEL.0..HIGH_REST_LEVEL.1);
+        for side in [shape, shape.mirror()] {
+            offsets[side.index()] = level + rng.random_range(-0.03..0.03);
+        }
+    }
+    offsets
+}
+
 /// The simulated tracker of one person's session (stateful: it smooths).
 pub struct Tracker {
     gain: [f64; BLENDSHAPE_COUNT],
@@ -160,6 +207,15 @@ impl Tracker {
             tracker.next_noise();
         }
         tracker
+    }
+
+    /// The same tracker reporting each weight raised by `offsets` at rest
+    /// (see [`high_rest_offsets`]); the clamp at 1 still holds.
+    pub fn with_rest_offsets(mut self, offsets: [f64; BLENDSHAPE_COUNT]) -> Tracker {
+        for (b, o) in self.bias.iter_mut().zip(offsets) {
+            *b += o;
+        }
+        self
     }
 
     /// The next frame's noise of every channel: white noise through two

@@ -114,6 +114,7 @@ fn a_blink_is_followed_within_the_real_fastest_rise() {
 fn a_simulated_session_rests_times_and_quantizes_like_real_takes() {
     let options = SimulationOptions {
         geometry_window: Some(0.0),
+        ..SimulationOptions::default()
     };
     let session = simulate_session_with(7, options, &mut |_, _| {});
     let s = stream_statistics(&session.frames);

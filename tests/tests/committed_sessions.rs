@@ -11,6 +11,7 @@ fn each_committed_session_regenerates_identically_from_its_seed() {
         let committed = std::fs::read(path(seed)).expect("committed session exists");
         let options = SimulationOptions {
             geometry_window: Some(SAMPLE_GEOMETRY_WINDOW),
+            ..SimulationOptions::default()
         };
         let session = likeness_sim::simulate_session_with(seed, options, &mut |_, _| {});
         let regenerated = session_file::encode(&session).expect("encodes");

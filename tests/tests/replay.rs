@@ -78,3 +78,64 @@ fn a_live_link_face_export_of_the_weights_replays_within_two_frames() {
     let errors = prompt_errors(&report);
     assert!(report.max_frame_error() <= Some(2), "{errors:?}");
 }
+
+/// Simulated people whose relaxed faces rest high on three groups of shapes
+/// (0.3–0.5, e.g. browDown on both sides): the neutral scan is taken within
+/// 3 s of stillness (the simulated person is still from the start) and says
+/// so, every prompt is captured, and every prompt of a shape that does not
+/// rest high within ±2 frames of its true peak (before rest levels, the
+/// neutral scan never finished). The high-resting shapes themselves saturate
+/// at 1 when performed; the mesh places 7 of their 15 captures on these
+/// seeds within ±2 frames, the others miss by up to 134 frames (see the
+/// README) — not yet asserted.
+#[test]
+fn people_who_rest_high_finish_the_neutral_scan_and_every_prompt() {
+    use likeness_sim::capture_session::{SimulationOptions, simulate_session_with};
+    use likeness_sim::tracker::high_rest_offsets;
+    for seed in [41, 42, 43] {
+        // A mesh on every frame, as on the phone: where the clamped weight
+        // is flat at 1, the mesh tells where the face peaked.
+        let options = SimulationOptions {
+            geometry_window: None,
+            high_rest_groups: 3,
+        };
+        let session = simulate_session_with(seed, options, &mut |_, _| {});
+        let high: Vec<_> = likeness::Blendshape::ALL
+            .into_iter()
+            .filter(|s| high_rest_offsets(seed, 3)[s.index()] >= 0.27)
+            .collect();
+        // Three groups: a sided shape and its mirror, or one midline shape.
+        assert!((3..=6).contains(&high.len()), "seed {seed}: {high:?}");
+        let frames = session.frames.clone();
+        let report = replay_session(session, GuidedCaptureConfig::default()).unwrap();
+        let neutral = &report.steps[0];
+        assert_eq!(neutral.step, Step::Neutral);
+        let at = neutral.frame.expect("the neutral scan is taken") as usize;
+        assert!(
+            frames[at].timestamp <= 3.0,
+            "seed {seed}: neutral scan at {:.2} s",
+            frames[at].timestamp
+        );
+        let rest = neutral.quality.high_rest.expect("high rest flagged");
+        assert!(
+            high.contains(&rest),
+            "seed {seed}: {rest} flagged, high: {high:?}"
+        );
+        let errors = prompt_errors(&report);
+        assert_eq!(errors.len(), 52, "seed {seed}: every prompt captured");
+        for step in &report.steps {
+            let Step::Expression(shape) = step.step else {
+                continue;
+            };
+            let error = step.frame_error().expect("captured, with truth");
+            eprintln!(
+                "seed {seed}: {} rests high: {} error {error:+}",
+                shape,
+                high.contains(&shape)
+            );
+            if !high.contains(&shape) {
+                assert!(error.abs() <= 2, "seed {seed}: {shape} {error:+} frames");
+            }
+        }
+    }
+}

@@ -9,9 +9,11 @@
 //! | §3.1 | neutral scan, prompts, test expressions, skip, retake, quality flags, events | [`guided_capture`] |
 //! | §3.1, §4 | a recorded stream through the state machine, against the true peaks | [`replay`] |
 //! | | a stream that is no guided session: each shape's peak and activity | [`stream_summary`] |
+//! | | the person's rest levels, from which expressions are measured | [`rest_levels`] |
 
 pub mod guided_capture;
 pub mod peak_detector;
 pub mod prompt_order;
 pub mod replay;
+pub mod rest_levels;
 pub mod stream_summary;

@@ -61,9 +61,14 @@ pub struct PeakDetectorConfig {
     pub fit_half_width: usize,
     /// How many frames the tracked weights trail the face (default 1.0).
     /// ARKit filters its weight estimates over time; an exponential filter
-    /// that moves halfway each frame, the tracker model of `sim-data`, delays
-    /// a parabolic peak by exactly (1 − α)/α = 1 frame. Set it to 0 for
-    /// weights that are not filtered.
+    /// of factor α delays a parabolic peak by (1 − α)/α frames: 1 frame for
+    /// α = 0.5, the first tracker model of `sim-data`, 0.4 for the measured
+    /// one (α = 0.7; real blinks bound the delay to under a frame). The
+    /// default was fixed on the first model and kept: on the second, the
+    /// committed subjects' prompts land at +0.1 frames on average and
+    /// twenty further subjects' at +0.05 (the remaining delay is the
+    /// expressions' own asymmetry about their peak). Set it to 0 for weights
+    /// that are not filtered.
     pub latency_frames: f32,
 }
 
@@ -91,6 +96,11 @@ pub struct Peak {
     pub position: f64,
     /// The run's largest three-frame mean of the weight.
     pub weight: f32,
+    /// When the weight was saturated at its top (the tracker clamps at 1):
+    /// the first and last frame of the saturated stretch, latency subtracted.
+    /// The weight cannot say where in the stretch the face peaked (the
+    /// reported frame is its middle); the mesh can, see the guided capture.
+    pub saturated: Option<(usize, usize)>,
 }
 
 /// Online peak detection on one weight, one frame at a time.
@@ -186,11 +196,14 @@ impl PeakDetector {
             self.released = 0;
         }
         if self.released >= c.release_frames {
-            let position = (self.locate(first, last) - f64::from(c.latency_frames)).max(0.0);
+            let latency = f64::from(c.latency_frames);
+            let position = (self.locate(first, last) - latency).max(0.0);
+            let shift = |f: usize| (f as f64 - latency).max(0.0).round() as usize;
             let peak = Peak {
                 frame: position.round() as usize,
                 position,
                 weight: b,
+                saturated: (last > first).then(|| (shift(first), shift(last))),
             };
             self.above = 0;
             self.best = None;

@@ -19,12 +19,17 @@ pub struct CaptureQuality {
     /// [`QualityConfig::tracking_margin`] frames of the captured one (among
     /// the frames seen until the capture was confirmed).
     pub tracking_lost: bool,
+    /// Neutral scan only: the person's face rests with this shape (the
+    /// highest) above `NeutralConfig::max_weight`. Expressions are then
+    /// measured from the rest levels ([`crate::capture::rest_levels`]); the
+    /// app may ask the person to relax and retake the neutral scan.
+    pub high_rest: Option<Blendshape>,
 }
 
 impl CaptureQuality {
     /// No flag raised.
     pub fn is_clean(&self) -> bool {
-        !self.weak && self.dominated_by.is_none() && !self.tracking_lost
+        !self.weak && self.dominated_by.is_none() && !self.tracking_lost && self.high_rest.is_none()
     }
 }
 
@@ -83,6 +88,7 @@ pub fn assess(shape: Blendshape, weights: &Weights, config: &QualityConfig) -> C
         weak: requested.is_nan() || requested < config.weak_weight,
         dominated_by,
         tracking_lost: false,
+        high_rest: None,
     }
 }
 

@@ -22,11 +22,12 @@ pub mod capture_quality;
 pub mod neutral_detector;
 
 pub use capture_quality::{CaptureQuality, QualityConfig};
-pub use neutral_detector::{NeutralConfig, NeutralDetector};
+pub use neutral_detector::{NeutralConfig, NeutralDetector, NeutralScan};
 
 use crate::arkit::{Blendshape, Weights};
-use crate::capture::peak_detector::{PeakDetector, PeakDetectorConfig};
+use crate::capture::peak_detector::{Peak, PeakDetector, PeakDetectorConfig};
 use crate::capture::prompt_order::{PROMPT_ORDER, instruction};
+use crate::capture::rest_levels::RestLevels;
 use crate::session::Frame;
 use glam::Vec3;
 use std::collections::VecDeque;
@@ -104,6 +105,10 @@ pub struct GuidedCaptureConfig {
     pub neutral: NeutralConfig,
     /// The quality flags.
     pub quality: QualityConfig,
+    /// Rest levels of the neutral scan at or below this are ARKit's usual
+    /// small offsets and count as 0 (default 0.1); above it, an expression
+    /// weight is measured from its rest level ([`crate::capture::rest_levels`]).
+    pub rest_floor: f32,
     /// Seconds a prompt or test waits for its expression before it is
     /// skipped (default 10: reaction 0.5 s, a failed try and a second one
     /// take 3–4 s; a person who has not managed in 10 s needs a skip).
@@ -123,6 +128,7 @@ impl Default for GuidedCaptureConfig {
             },
             neutral: NeutralConfig::default(),
             quality: QualityConfig::default(),
+            rest_floor: 0.1,
             step_timeout: 10.0,
             tests: Vec::new(),
         }
@@ -263,6 +269,8 @@ pub struct GuidedCapture {
     active: Option<Active>,
     queue: VecDeque<Step>,
     neutral_detector: NeutralDetector,
+    /// The person's rest levels, from the neutral scan.
+    rest: RestLevels,
     retained: VecDeque<Retained>,
     /// Stream indices of recent untracked frames.
     untracked: VecDeque<u64>,

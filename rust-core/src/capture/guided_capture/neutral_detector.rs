@@ -1,7 +1,16 @@
 //! §3.1: the neutral scan. It is taken once the face has been relaxed and
 //! still for about a second: every weight low, no weight changing, and the
 //! mesh not moving.
+//!
+//! A real person's relaxed face is not ARKit's zero: some shapes rest well
+//! above 0 (a brow that rests low reads as browDown 0.3–0.5). Such a face
+//! is still, just not low: after [`NeutralConfig::relaxed_duration`] of
+//! stillness with every weight at most [`NeutralConfig::max_rest_weight`],
+//! it is taken as the person's neutral too, and the weights it rests at are
+//! the person's *rest levels*, which the expression detectors then measure
+//! from ([`crate::capture::rest_levels`]).
 
+use crate::arkit::{BLENDSHAPE_COUNT, Weights};
 use crate::session::Frame;
 use std::collections::VecDeque;
 
@@ -22,6 +31,16 @@ pub struct NeutralConfig {
     pub max_motion: f32,
     /// How long the face must stay so (s, default 1.0).
     pub duration: f64,
+    /// Largest weight a still face may rest at and still be taken, after
+    /// [`NeutralConfig::relaxed_duration`], as the person's neutral
+    /// (default 0.6: above the 0.3–0.5 at which shapes of some relaxed
+    /// faces rest, below the 0.7–1.0 of a performed expression).
+    pub max_rest_weight: f32,
+    /// How long a still face with a weight above
+    /// [`NeutralConfig::max_weight`] must stay so (s, default 1.5: half a
+    /// second more than a low face, so that an expression on its way, which
+    /// is not still that long, is not taken).
+    pub relaxed_duration: f64,
 }
 
 impl Default for NeutralConfig {
@@ -31,6 +50,8 @@ impl Default for NeutralConfig {
             max_weight_change: 0.08,
             max_motion: 0.001,
             duration: 1.0,
+            max_rest_weight: 0.6,
+            relaxed_duration: 1.5,
         }
     }
 }
@@ -53,17 +74,20 @@ impl NeutralDetector {
     }
 
     /// Feeds frame number `index`; once the stretch ending here has lasted
-    /// [`NeutralConfig::duration`], returns the frame to keep as the neutral
-    /// scan: the newest frame of the stretch that carries a mesh, else the
-    /// newest frame.
-    pub fn push(&mut self, index: u64, frame: Frame) -> Option<(u64, Frame)> {
+    /// [`NeutralConfig::duration`] (every weight at most
+    /// [`NeutralConfig::max_weight`]) or [`NeutralConfig::relaxed_duration`]
+    /// (every weight at most [`NeutralConfig::max_rest_weight`]), returns
+    /// the neutral scan: the newest frame of the stretch that carries a mesh
+    /// (else the newest frame), and the rest levels, each weight's mean over
+    /// the stretch.
+    pub fn push(&mut self, index: u64, frame: Frame) -> Option<NeutralScan> {
         let c = self.config;
         if !frame.tracked
             || frame
                 .weights
                 .0
                 .iter()
-                .any(|w| w.is_nan() || *w > c.max_weight)
+                .any(|w| w.is_nan() || *w > c.max_rest_weight)
         {
             self.window.clear();
             return None;
@@ -79,10 +103,23 @@ impl NeutralDetector {
         }
         self.window.push_back((index, frame));
         let span = self.window.back()?.1.timestamp - self.window.front()?.1.timestamp;
+        let low = self
+            .window
+            .iter()
+            .all(|(_, f)| f.weights.0.iter().all(|w| *w <= c.max_weight));
+        let needed = if low { c.duration } else { c.relaxed_duration };
         // Half a frame of slack for timestamps that jitter.
-        if span < c.duration * 0.99 {
+        if span < needed * 0.99 {
             return None;
         }
+        let mut sum = [0.0f64; BLENDSHAPE_COUNT];
+        for (_, f) in &self.window {
+            for (s, w) in sum.iter_mut().zip(&f.weights.0) {
+                *s += f64::from(*w);
+            }
+        }
+        let n = self.window.len() as f64;
+        let rest = Weights(sum.map(|s| (s / n) as f32));
         let keep = self
             .window
             .iter()
@@ -90,8 +127,19 @@ impl NeutralDetector {
             .unwrap_or(self.window.len() - 1);
         let chosen = self.window.remove(keep);
         self.window.clear();
-        chosen
+        chosen.map(|(index, frame)| NeutralScan { index, frame, rest })
     }
+}
+
+/// The neutral scan the detector chose.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NeutralScan {
+    /// Its index in the stream.
+    pub index: u64,
+    /// The frame.
+    pub frame: Frame,
+    /// Each weight's mean over the still stretch: the person's rest levels.
+    pub rest: Weights,
 }
 
 /// Whether `old` and `new` show the same still face: weights within
@@ -134,7 +182,7 @@ mod tests {
         frames
             .enumerate()
             .find_map(|(i, f)| d.push(i as u64, f))
-            .map(|(i, _)| i)
+            .map(|scan| scan.index)
     }
 
     #[test]
@@ -170,8 +218,22 @@ mod tests {
     #[test]
     fn a_face_that_never_relaxes_is_never_neutral() {
         assert_eq!(
-            run((0..200).map(|i| frame(i as f64 / 60.0, 0.4, 0.0))),
+            run((0..200).map(|i| frame(i as f64 / 60.0, 0.7, 0.0))),
             None
         );
+    }
+
+    #[test]
+    fn a_face_resting_high_is_its_own_neutral_after_longer_stillness() {
+        // Every weight at 0.4: still, but not low; taken after 1.5 s, with
+        // its rest levels.
+        let mut d = NeutralDetector::new(NeutralConfig::default());
+        let scan = (0..200)
+            .map(|i| frame(i as f64 / 60.0, 0.4, 0.0))
+            .enumerate()
+            .find_map(|(i, f)| d.push(i as u64, f))
+            .expect("a neutral scan");
+        assert_eq!(scan.index, 90);
+        assert!(scan.rest.0.iter().all(|r| (r - 0.4).abs() < 1e-6));
     }
 }

@@ -39,6 +39,7 @@ impl GuidedCapture {
         GuidedCapture {
             queue: config.steps().collect(),
             neutral_detector: NeutralDetector::new(config.neutral),
+            rest: RestLevels::NONE,
             tests: vec![None; config.tests.len()],
             config,
             active: None,
@@ -86,15 +87,20 @@ impl GuidedCapture {
         let timed_out = frame.timestamp - started_at > self.config.step_timeout;
         match active.step {
             Step::Neutral => {
-                if let Some((at, chosen)) = self.neutral_detector.push(index, frame) {
-                    let quality = CaptureQuality::default();
-                    self.neutral = Some(self.capture(at, chosen, quality));
-                    self.finish_step(Step::Neutral, at, quality, &mut events);
+                if let Some(scan) = self.neutral_detector.push(index, frame) {
+                    self.rest = RestLevels::from_neutral(&scan.rest, self.config.rest_floor);
+                    let quality = CaptureQuality {
+                        high_rest: RestLevels::from_neutral(&scan.rest, 0.0)
+                            .highest_above(self.config.neutral.max_weight),
+                        ..CaptureQuality::default()
+                    };
+                    self.neutral = Some(self.capture(scan.index, scan.frame, quality));
+                    self.finish_step(Step::Neutral, scan.index, quality, &mut events);
                 }
             }
             step => {
                 let value = match step {
-                    Step::Expression(shape) => frame.weights.get(shape),
+                    Step::Expression(shape) => self.rest.relative(shape, frame.weights.get(shape)),
                     _ if frame.tracked => {
                         let baseline = active.baseline.get_or_insert(frame.weights);
                         for (b, w) in baseline.0.iter_mut().zip(&frame.weights.0) {
@@ -118,7 +124,8 @@ impl GuidedCapture {
                     frame,
                 });
                 if let Some(peak) = peak {
-                    self.capture_peak(step, peak.frame, &mut events);
+                    let at = self.peak_frame(&peak);
+                    self.capture_peak(step, at, &mut events);
                 } else if timed_out {
                     self.skip_step(SkipReason::TimedOut, &mut events);
                 } else {
@@ -233,6 +240,58 @@ impl GuidedCapture {
         Ok(())
     }
 
+    /// The detector frame to capture for `peak`: its frame, unless the
+    /// weight was saturated over a stretch. Then the clamped weight cannot
+    /// tell where the face peaked, but the mesh still can. With `D` the mean
+    /// displacement from the neutral scan over the stretch (the expression's
+    /// own shape, whatever other shapes and noise add) and `x(t) − n` each
+    /// frame's, the face is furthest into the expression where the
+    /// projection `Σ_v (x_v(t) − n_v) · D_v` is largest; that retained frame
+    /// is taken. Without meshes (a weights-only stream, or no neutral mesh)
+    /// the stretch's middle stays.
+    fn peak_frame(&self, peak: &Peak) -> usize {
+        let (Some((first, last)), Some(neutral)) = (
+            peak.saturated,
+            self.neutral.as_ref().and_then(|n| n.vertices.as_ref()),
+        ) else {
+            return peak.frame;
+        };
+        let stretch: Vec<(usize, &Vec<Vec3>)> = self
+            .retained
+            .iter()
+            .filter_map(|r| {
+                let at = r.detector_index.filter(|i| (first..=last).contains(i))?;
+                let mesh = r
+                    .frame
+                    .vertices
+                    .as_ref()
+                    .filter(|m| m.len() == neutral.len())?;
+                Some((at, mesh))
+            })
+            .collect();
+        if stretch.is_empty() {
+            return peak.frame;
+        }
+        let mut direction = vec![Vec3::ZERO; neutral.len()];
+        for (_, mesh) in &stretch {
+            for ((d, p), q) in direction.iter_mut().zip(mesh.iter()).zip(neutral) {
+                *d += *p - *q;
+            }
+        }
+        let projection = |mesh: &[Vec3]| -> f32 {
+            mesh.iter()
+                .zip(neutral)
+                .zip(&direction)
+                .map(|((p, q), d)| (*p - *q).dot(*d))
+                .sum()
+        };
+        stretch
+            .iter()
+            .map(|(at, mesh)| (*at, projection(mesh)))
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .map_or(peak.frame, |(at, _)| at)
+    }
+
     /// Records the peak at detector frame `at` as the capture of `step`.
     fn capture_peak(&mut self, step: Step, at: usize, events: &mut Vec<CaptureEvent>) {
         let position = self
@@ -246,9 +305,11 @@ impl GuidedCapture {
             return;
         };
         let mut quality = match step {
-            Step::Expression(shape) => {
-                capture_quality::assess(shape, &retained.frame.weights, &self.config.quality)
-            }
+            Step::Expression(shape) => capture_quality::assess(
+                shape,
+                &self.rest.relative_weights(&retained.frame.weights),
+                &self.config.quality,
+            ),
             _ => CaptureQuality::default(),
         };
         let margin = self.config.quality.tracking_margin;

@@ -84,10 +84,11 @@ fn a_live_link_face_export_of_the_weights_replays_within_two_frames() {
 /// 3 s of stillness (the simulated person is still from the start) and says
 /// so, every prompt is captured, and every prompt of a shape that does not
 /// rest high within ±2 frames of its true peak (before rest levels, the
-/// neutral scan never finished). The high-resting shapes themselves saturate
-/// at 1 when performed; the mesh places 7 of their 15 captures on these
-/// seeds within ±2 frames, the others miss by up to 134 frames (see the
-/// README) — not yet asserted.
+/// neutral scan never finished). The high-resting shapes themselves
+/// saturate at 1 when performed and the mesh places their peak: on these
+/// seeds 9 of their 15 captures are within ±2 frames, the others 3–37 frames
+/// late (mouthPress and cheekSquint, whose motion is small against the mesh
+/// noise) — reported, not yet asserted.
 #[test]
 fn people_who_rest_high_finish_the_neutral_scan_and_every_prompt() {
     use likeness_sim::capture_session::{SimulationOptions, simulate_session_with};
@@ -128,12 +129,11 @@ fn people_who_rest_high_finish_the_neutral_scan_and_every_prompt() {
                 continue;
             };
             let error = step.frame_error().expect("captured, with truth");
-            eprintln!(
-                "seed {seed}: {} rests high: {} error {error:+}",
-                shape,
-                high.contains(&shape)
-            );
-            if !high.contains(&shape) {
+            if high.contains(&shape) {
+                eprintln!(
+                    "seed {seed}: {shape} rests high, captured {error:+} frames from its peak"
+                );
+            } else {
                 assert!(error.abs() <= 2, "seed {seed}: {shape} {error:+} frames");
             }
         }

@@ -6,15 +6,22 @@
 //! that shape and takes the rest for half the expression.
 //!
 //! So the guided capture measures each prompted weight from the person's
-//! rest level `r`, rescaled so that the remaining range still ends at 1:
+//! rest level `r`. ARKit's weights for such a face behave like an offset on
+//! the usual ones, clamped at 1: a half-hearted try rises from the rest by
+//! as much as anyone's does, and a full expression runs into the clamp. So
+//! the rise `w − r` is what counts, against the detector's usual threshold
+//! `T` (0.5) — except where less than `T / κ` is left below 1: there the
+//! rise is stretched so that reaching a share `κ` ([`RANGE_SHARE`], 0.8) of
+//! what is left counts as `T`:
 //!
 //! ```text
-//! u = (w − r) / (1 − r)
+//! u = (w − r) · s(r),   s(r) = max(1, T / (κ (1 − r)))
 //! ```
 //!
-//! which leaves the detector's thresholds (0.5 to count, 0.4 to re-arm)
-//! meaning the same share of what that person can still show. Rest levels
-//! at or below a floor ([`super::guided_capture::GuidedCaptureConfig::rest_floor`],
+//! For r = 0.3 that is the plain rise; for r = 0.45 the rise is stretched
+//! by 1.14, so a full expression (w = 1) reads 0.62 and a failed try
+//! (a rise of at most 0.37) stays under 0.5. Rest levels at or below a
+//! floor ([`super::guided_capture::GuidedCaptureConfig::rest_floor`],
 //! default 0.1, ARKit's usual small offsets) are taken as 0, so for most
 //! people and shapes the absolute rules apply unchanged; so they do before
 //! the neutral scan has been taken.
@@ -26,36 +33,59 @@ use crate::arkit::{BLENDSHAPE_COUNT, Blendshape, Weights};
 /// to 0.6, see `NeutralConfig::max_rest_weight`).
 pub const MAX_REST: f32 = 0.9;
 
-/// Per-shape rest levels the expression weights are measured from.
+/// κ: where less than `T / κ` is left between the rest level and 1, a
+/// rise to this share of what is left counts as the detector's threshold
+/// `T` (see the module docs).
+pub const RANGE_SHARE: f32 = 0.8;
+
+/// Per-shape rest levels the expression weights are measured from, and the
+/// stretch `s(r)` of each.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RestLevels(Weights);
+pub struct RestLevels {
+    levels: Weights,
+    stretch: Weights,
+}
 
 impl RestLevels {
     /// No rest levels: every weight is measured from 0 (the absolute rules).
-    pub const NONE: RestLevels = RestLevels(Weights::ZERO);
+    pub const NONE: RestLevels = RestLevels {
+        levels: Weights::ZERO,
+        stretch: Weights([1.0; BLENDSHAPE_COUNT]),
+    };
 
-    /// The rest levels of a neutral scan's weights `rest`: each level above
-    /// `floor` (capped at [`MAX_REST`]), the others 0.
-    pub fn from_neutral(rest: &Weights, floor: f32) -> RestLevels {
-        RestLevels(Weights(rest.0.map(|r| {
+    /// The rest levels of a neutral scan's weights `rest`, for a detector
+    /// whose threshold is `threshold`: each level above `floor` (capped at
+    /// [`MAX_REST`]), the others 0.
+    pub fn from_neutral(rest: &Weights, floor: f32, threshold: f32) -> RestLevels {
+        let levels = Weights(rest.0.map(|r| {
             if r.is_finite() && r > floor {
                 r.min(MAX_REST)
             } else {
                 0.0
             }
-        })))
+        }));
+        let stretch = Weights(
+            levels
+                .0
+                .map(|r| (threshold / (RANGE_SHARE * (1.0 - r))).max(1.0)),
+        );
+        RestLevels { levels, stretch }
     }
 
     /// The level of `shape`.
     pub fn get(&self, shape: Blendshape) -> f32 {
-        self.0.get(shape)
+        self.levels.get(shape)
     }
 
     /// `shape`'s weight `w` measured from its rest level:
-    /// `(w − r) / (1 − r)` (`w` itself where the level is 0).
+    /// `(w − r) · s(r)` (`w` itself where the level is 0).
     pub fn relative(&self, shape: Blendshape, w: f32) -> f32 {
         let r = self.get(shape);
-        if r > 0.0 { (w - r) / (1.0 - r) } else { w }
+        if r > 0.0 {
+            (w - r) * self.stretch.get(shape)
+        } else {
+            w
+        }
     }
 
     /// Every weight measured from its rest level.
@@ -69,7 +99,7 @@ impl RestLevels {
 
     /// The shape resting highest, if its level is above `level`.
     pub fn highest_above(&self, level: f32) -> Option<Blendshape> {
-        let shape = self.0.dominant();
+        let shape = self.levels.dominant();
         (self.get(shape) > level).then_some(shape)
     }
 }
@@ -79,16 +109,21 @@ mod tests {
     use super::*;
 
     #[test]
-    fn low_rests_keep_the_absolute_rules_and_high_ones_rescale() {
+    fn low_rests_keep_the_absolute_rules_and_high_ones_count_the_rise() {
         let mut rest = Weights::ZERO;
         rest.set(Blendshape::BrowDownLeft, 0.45);
+        rest.set(Blendshape::BrowInnerUp, 0.3);
         rest.set(Blendshape::EyeSquintLeft, 0.05);
-        let levels = RestLevels::from_neutral(&rest, 0.1);
+        let levels = RestLevels::from_neutral(&rest, 0.1, 0.5);
         assert_eq!(levels.relative(Blendshape::EyeSquintLeft, 0.7), 0.7);
+        // At 0.3 the plain rise counts.
+        assert!((levels.relative(Blendshape::BrowInnerUp, 0.8) - 0.5).abs() < 1e-6);
+        // At 0.45 only 0.55 is left: 80% of it counts as the threshold.
         assert_eq!(levels.relative(Blendshape::BrowDownLeft, 0.45), 0.0);
-        assert!((levels.relative(Blendshape::BrowDownLeft, 1.0) - 1.0).abs() < 1e-6);
-        // Half of what is left above the rest counts as half an expression.
-        assert!((levels.relative(Blendshape::BrowDownLeft, 0.725) - 0.5).abs() < 1e-6);
+        let at = 0.45 + 0.8 * 0.55;
+        assert!((levels.relative(Blendshape::BrowDownLeft, at) - 0.5).abs() < 1e-6);
+        // A failed try (a rise of 0.35) stays under the threshold.
+        assert!(levels.relative(Blendshape::BrowDownLeft, 0.8) < 0.45);
         assert_eq!(levels.highest_above(0.25), Some(Blendshape::BrowDownLeft));
         assert_eq!(levels.highest_above(0.5), None);
         assert_eq!(

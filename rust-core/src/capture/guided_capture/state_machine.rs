@@ -88,9 +88,11 @@ impl GuidedCapture {
         match active.step {
             Step::Neutral => {
                 if let Some(scan) = self.neutral_detector.push(index, frame) {
-                    self.rest = RestLevels::from_neutral(&scan.rest, self.config.rest_floor);
+                    let threshold = self.config.peak.threshold;
+                    self.rest =
+                        RestLevels::from_neutral(&scan.rest, self.config.rest_floor, threshold);
                     let quality = CaptureQuality {
-                        high_rest: RestLevels::from_neutral(&scan.rest, 0.0)
+                        high_rest: RestLevels::from_neutral(&scan.rest, 0.0, threshold)
                             .highest_above(self.config.neutral.max_weight),
                         ..CaptureQuality::default()
                     };

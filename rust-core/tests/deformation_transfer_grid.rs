@@ -3,7 +3,7 @@
 //! ARKit mask is exercised in `tests/tests/deformation_transfer.rs`.
 
 use glam::{DMat3, DVec3, Vec3};
-use likeness::geometry::deformation_transfer::{DeformationTransfer, TransferError};
+use likeness::geometry::deformation_transfer::{Contacts, DeformationTransfer, TransferError};
 use likeness::geometry::mesh_boundary::{EyeHole, eye_holes};
 use likeness::{GeometryError, SessionError, Template, Topology, TopologyError};
 
@@ -59,11 +59,17 @@ fn bulge(rest: &[DVec3]) -> Vec<DVec3> {
 /// Closes the left eye: each upper-lid vertex moves onto the lower-lid
 /// vertex below it; the skin above follows for three rows, less and less.
 fn blink(face: &Face, rest: &[DVec3]) -> Vec<DVec3> {
+    blink_to(face, rest, 1.0)
+}
+
+/// [`blink`], with the upper lid travelling only the fraction `closed` of
+/// the way down.
+fn blink_to(face: &Face, rest: &[DVec3], closed: f64) -> Vec<DVec3> {
     let (i0, i1, j0, j1) = EYES[0];
     let at = |i: usize, j: usize| face.index[j * NX + i].unwrap() as usize;
     let mut out = rest.to_vec();
     for i in i0..=i1 {
-        let travel = rest[at(i, j0)] - rest[at(i, j1)];
+        let travel = closed * (rest[at(i, j0)] - rest[at(i, j1)]);
         for j in j1..j1 + 3 {
             let w = 1.0 - (j - j1) as f64 / 3.0;
             out[at(i, j)] += w * travel;
@@ -144,18 +150,21 @@ fn lid_gap(face: &Face, target: &[DVec3], delta: &[DVec3]) -> (f64, f64) {
     (gap, open)
 }
 
-#[test]
-fn a_blink_closes_the_eye_of_a_different_face() {
-    let face = face();
-    // Another face: other proportions, turned a little, with ripples.
+/// Another face: other proportions, turned a little, with ripples.
+fn other_face(face: &Face) -> Vec<DVec3> {
     let turn = DMat3::from_rotation_y(0.1) * DMat3::from_diagonal(DVec3::new(1.08, 0.93, 1.2));
-    let target: Vec<DVec3> = face
-        .rest
+    face.rest
         .iter()
         .map(|p| {
             turn * *p + DVec3::new(0.002 * (40.0 * p.y).sin(), 0.0, 0.004 * (30.0 * p.x).sin())
         })
-        .collect();
+        .collect()
+}
+
+#[test]
+fn a_blink_closes_the_eye_of_a_different_face() {
+    let face = face();
+    let target = other_face(&face);
     let dt = DeformationTransfer::new(&face.topology, &face.virtual_triangles, &target).unwrap();
     let source = blink(&face, &face.rest);
     let delta = dt.transfer(&face.rest, &source).unwrap();
@@ -182,6 +191,93 @@ fn a_blink_closes_the_eye_of_a_different_face() {
     let (plain_gap, _) = lid_gap(&face, &target, &plain);
     eprintln!("without contacts: lid gap {plain_gap:.2e} m of {open:.2e} m");
     assert!(plain_gap > gap);
+}
+
+#[test]
+fn an_eye_closes_when_the_source_lids_come_within_15_percent_of_its_opening() {
+    // The grid's eye is 2 cm open; its lid pairs are the 7 columns. The rule
+    // is a fraction of the opening, so it reads the same in centimetres.
+    let face = face();
+    for scale in [1.0, 100.0] {
+        let rest: Vec<DVec3> = face.rest.iter().map(|p| scale * *p).collect();
+        let target: Vec<DVec3> = other_face(&face).iter().map(|p| scale * *p).collect();
+        let dt =
+            DeformationTransfer::new(&face.topology, &face.virtual_triangles, &target).unwrap();
+        for (closed, pairs) in [(1.0, 7), (0.95, 7), (0.86, 7), (0.84, 0), (0.5, 0)] {
+            let source = blink_to(&face, &rest, closed);
+            let contacts = dt.contacts(&rest, &source).unwrap();
+            assert_eq!(
+                contacts.pairs().len(),
+                pairs,
+                "closed {closed}, scale {scale}"
+            );
+            let delta = dt.transfer(&rest, &source).unwrap();
+            let (gap, open) = lid_gap(&face, &target, &delta);
+            eprintln!(
+                "scale {scale}, lids {closed} closed: target lid gap {gap:.2e} of {open:.2e}"
+            );
+            if pairs > 0 {
+                assert!(gap < 1e-9 * open, "gap {gap:e} of {open:e}");
+            } else {
+                assert!(gap > 0.1 * open, "gap {gap:e} of {open:e}");
+            }
+        }
+    }
+}
+
+#[test]
+fn close_contacts_closes_any_field_and_refuses_another_faces_contacts() {
+    let face = face();
+    let target = other_face(&face);
+    let dt = DeformationTransfer::new(&face.topology, &face.virtual_triangles, &target).unwrap();
+    let source = blink_to(&face, &face.rest, 0.97);
+    let contacts = dt.contacts(&face.rest, &source).unwrap();
+    let mut delta = dt
+        .clone()
+        .with_contacts(false)
+        .transfer(&face.rest, &source)
+        .unwrap();
+    let (open_gap, open) = lid_gap(&face, &target, &delta);
+    dt.close_contacts(&mut delta, &contacts).unwrap();
+    let (gap, _) = lid_gap(&face, &target, &delta);
+    eprintln!("plain transfer: lid gap {open_gap:.2e}, closed {gap:.2e} of {open:.2e}");
+    assert!(open_gap > 1e-4 * open && gap < 1e-9 * open);
+    // No contacts: nothing changes.
+    let none = dt.contacts(&face.rest, &bulge(&face.rest)).unwrap();
+    assert!(none.is_empty());
+    let before = delta.clone();
+    dt.close_contacts(&mut delta, &none).unwrap();
+    assert_eq!(delta, before);
+    // Contacts of a mesh with other vertices, and fields of the wrong size.
+    let small = small_face_contacts();
+    assert!(matches!(
+        dt.close_contacts(&mut delta, &small),
+        Err(TransferError::Geometry(GeometryError::VertexCount { .. }))
+    ));
+    assert!(dt.close_contacts(&mut delta[1..], &contacts).is_err());
+    assert!(dt.contacts(&face.rest, &source[1..]).is_err());
+}
+
+/// The contacts of a smaller face's blink (a 12 × 10 grid with smaller
+/// eyes).
+fn small_face_contacts() -> Contacts {
+    let eyes = [(7, 10, 5, 7), (1, 4, 5, 7)];
+    let grid = face_grid::face_grid(12, 10, CELL as f32, 2.0, eyes, (3, 9, 2, 3));
+    let rest: Vec<DVec3> = grid.positions.iter().map(|p| p.as_dvec3()).collect();
+    let topology = Topology::new(rest.len(), grid.triangles).unwrap();
+    let rest_f32: Vec<Vec3> = rest.iter().map(|p| p.as_vec3()).collect();
+    let holes = eye_holes(&topology, &rest_f32).unwrap();
+    let virtual_triangles: Vec<[u32; 3]> = holes.iter().flat_map(|e| e.triangles.clone()).collect();
+    let dt = DeformationTransfer::new(&topology, &virtual_triangles, &rest).unwrap();
+    // Close the left eye's lids onto each other.
+    let mut shut = rest.clone();
+    let eye = &holes[0];
+    for (&u, &l) in eye.upper.iter().zip(&eye.lower) {
+        shut[u as usize] = rest[l as usize];
+    }
+    let contacts = dt.contacts(&rest, &shut).unwrap();
+    assert!(!contacts.is_empty());
+    contacts
 }
 
 #[test]

@@ -89,8 +89,10 @@ fn handle_field(mask: &FaceMask, h: &Handle, scale: DVec3) -> Vec<DVec3> {
         .collect()
 }
 
-/// Blink field: lid vertices meet exactly; skin nearby follows its lid.
-/// Returns the linear delta and the forward bulge of the upper-lid side.
+/// Blink field: lid vertices meet (or, with a `gap`, stop that far apart
+/// on the line between them, each lid short by its share of the travel);
+/// skin nearby follows its lid. Returns the linear delta and the forward
+/// bulge of the upper-lid side.
 fn blink_field(
     mask: &FaceMask,
     neutral: &[DVec3],
@@ -98,6 +100,7 @@ fn blink_field(
     meet: f64,
     bulge: f64,
     reach: [f64; 2],
+    gap: f64,
 ) -> (Vec<DVec3>, Vec<DVec3>) {
     let lm = &mask.landmarks;
     let (upper, lower) = (&lm.upper_lid[side], &lm.lower_lid[side]);
@@ -108,8 +111,15 @@ fn blink_field(
     for (&u, &l) in upper.iter().zip(lower) {
         let (pu, pl) = (neutral[u as usize], neutral[l as usize]);
         let m = pl + meet * (pu - pl);
-        lid_delta.push((u as usize, m - pu, true));
-        lid_delta.push((l as usize, m - pl, false));
+        let (mu, ml) = if gap > 0.0 {
+            // Never wider than the open eye: a lid does not move backwards.
+            let apart = (pu - pl).normalize_or_zero() * gap.min(pu.distance(pl));
+            (m + (1.0 - meet) * apart, m - meet * apart)
+        } else {
+            (m, m)
+        };
+        lid_delta.push((u as usize, mu - pu, true));
+        lid_delta.push((l as usize, ml - pl, false));
     }
     let corners = [lm.eye_inner[side] as usize, lm.eye_outer[side] as usize];
     for (i, uv) in mask.uv.iter().enumerate() {
@@ -191,6 +201,7 @@ impl FaceModel {
                     bulge,
                     upper_reach,
                     lower_reach,
+                    gap,
                 } => {
                     let (d, b) = blink_field(
                         mask,
@@ -199,6 +210,7 @@ impl FaceModel {
                         meet,
                         bulge,
                         [upper_reach, lower_reach],
+                        gap,
                     );
                     dense.iter_mut().zip(d).for_each(|(a, b)| *a += b);
                     blink_bulge[side] = SparseField::from_dense(&b);

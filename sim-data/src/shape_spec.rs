@@ -12,7 +12,9 @@
 //! move the right parts.
 //!
 //! The special motions are those a handle cannot express: a blink brings
-//! each upper-lid vertex exactly onto the lower lid; the jaw rotates about the
+//! each upper-lid vertex exactly onto the lower lid (or, in the template
+//! variant of [`crate::template::TemplateVariant::AppleLike`], to a fixed
+//! gap short of it); the jaw rotates about the
 //! temporomandibular hinge; a jaw shift translates the mandible; mouthClose
 //! closes the lips against the opened jaw (ARKit's definition: it is only
 //! meaningful together with jawOpen).
@@ -54,6 +56,10 @@ pub enum Special {
         upper_reach: f64,
         /// How far below the lower lid the skin follows (m).
         lower_reach: f64,
+        /// How far apart the lids stop (m): 0, they meet, for the generic
+        /// template and every subject; [`crate::template::APPLE_BLINK_GAP`]
+        /// for the template variant that stops short as Apple's does.
+        gap: f64,
     },
     /// Mandible rotation about the hinge axis (x) by `angle` radians.
     JawRotation {
@@ -138,12 +144,14 @@ impl ShapeSpec {
                 bulge,
                 upper_reach,
                 lower_reach,
+                gap,
             } => Special::Blink {
                 side: 1 - side,
                 meet,
                 bulge,
                 upper_reach,
                 lower_reach,
+                gap,
             },
             Special::JawTranslation { offset } => Special::JawTranslation {
                 offset: DVec3::new(-offset.x, offset.y, offset.z),
@@ -178,6 +186,7 @@ fn left_or_centre(shape: Blendshape) -> ShapeSpec {
                 bulge: 0.0012,
                 upper_reach: 0.013,
                 lower_reach: 0.007,
+                gap: 0.0,
             },
         },
         B::EyeLookDownLeft => hs(vec![

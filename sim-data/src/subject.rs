@@ -104,6 +104,7 @@ fn style_shape(rng: &mut ChaCha8Rng, spec: &ShapeSpec, gain: f64) -> ShapeSpec {
             bulge: rng.random_range(0.0005..0.002),
             upper_reach: 0.013 * log_normal(rng, STYLE_EXTENT_SIGMA),
             lower_reach: 0.007 * log_normal(rng, STYLE_EXTENT_SIGMA),
+            gap: 0.0,
         },
         Special::JawRotation { angle } => Special::JawRotation {
             angle: angle

@@ -1,13 +1,14 @@
-//! The simulator's physics hold: the mask is ARKit-sized, blinks close,
-//! jaws open 3–5 cm, lips touch at rest and part, nothing is NaN, and the
-//! test expressions are not the training prompts.
+//! The simulator's physics hold: the mask is ARKit-sized, blinks close (and
+//! the Apple-like template's stop half a millimetre short), jaws open 3–5 cm,
+//! lips touch at rest and part, nothing is NaN, and the test expressions are
+//! not the training prompts.
 
 use glam::Vec3;
 use likeness::{Blendshape, Session};
 use likeness_sim::face_mask::{VERTEX_COUNT, face_mask};
 use likeness_sim::simulate_session;
 use likeness_sim::subject::Subject;
-use likeness_sim::template::generic_model;
+use likeness_sim::template::{APPLE_BLINK_GAP, TemplateVariant, generic_model};
 use std::sync::OnceLock;
 
 fn session() -> &'static Session {
@@ -110,6 +111,35 @@ fn blinks_close_the_lids_within_a_tenth_of_a_millimetre() {
             assert!(open > 0.008, "eye open {open}");
         }
     }
+}
+
+#[test]
+fn the_apple_like_template_differs_only_in_its_blinks_which_stop_half_a_millimetre_short() {
+    let lm = &face_mask().landmarks;
+    let exact = generic_model();
+    let apple = TemplateVariant::AppleLike.model();
+    assert_eq!(exact.neutral, apple.neutral);
+    let blinks = [Blendshape::EyeBlinkLeft, Blendshape::EyeBlinkRight];
+    for shape in Blendshape::ALL {
+        let (e, a) = (exact.shape(shape), apple.shape(shape));
+        let Some(side) = blinks.iter().position(|b| *b == shape) else {
+            assert_eq!(e, a, "{shape}");
+            continue;
+        };
+        for (u, l) in lm.upper_lid[side].iter().zip(&lm.lower_lid[side]) {
+            let gap = a[*u as usize].distance(a[*l as usize]);
+            assert!((gap - APPLE_BLINK_GAP).abs() < 1e-12, "{shape}: {gap}");
+        }
+        // Each lid stops short of where it met the other by its share of
+        // the gap; the skin that follows it, by less.
+        let short = e
+            .iter()
+            .zip(&a)
+            .map(|(p, q)| p.distance(*q))
+            .fold(0.0, f64::max);
+        assert!(short <= APPLE_BLINK_GAP + 1e-12, "{shape}: {short}");
+    }
+    assert_eq!(TemplateVariant::default(), TemplateVariant::ExactBlink);
 }
 
 #[test]

@@ -22,6 +22,14 @@
 //! deformation transfer, which is the "indirect" step the paper (§3.2)
 //! replaces by fitting positions directly.
 //!
+//! Closed eyes: the fitted gradients of a blink need not collapse the eye
+//! (on the simulated subjects its lids stayed up to 0.8 mm apart), so, as in
+//! DT, the lid pairs that the template closes in shape `j` (its contacts, see
+//! [`crate::geometry::deformation_transfer`]) are closed in the result: the
+//! positions are the Poisson step's minimizer under `x_a = x_b` for each
+//! pair, the correction of least gradient energy
+//! ([`crate::geometry::deformation_transfer::DeformationTransfer::close_contacts`]).
+//!
 //! Constants, from Li et al. 2010 §4: κ = 0.1 and θ = 2; β = 0.5, the value
 //! their alternation starts from (they lower it as the weights improve; with
 //! known weights there is one step).
@@ -55,8 +63,8 @@ pub fn prior_weight(norm: f64) -> f64 {
 // against its vertex count, which `ebfr_blendshapes` checks is that of every
 // mesh used (the session's own meshes are checked against its topology);
 // per-triangle lists have one entry per triangle of the transfer, per-shape
-// ones 52, shape indices are below 52, and the fitted `x` has `9k` values per
-// triangle.
+// ones 52 (the lid contact lists too, checked there), shape indices are
+// below 52, and the fitted `x` has `9k` values per triangle.
 
 fn entries(m: DMat3) -> [f64; 9] {
     m.to_cols_array()
@@ -193,6 +201,11 @@ pub fn ebfr_blendshapes(
         n,
         generic.shapes.vertex_count(),
     )?;
+    check_size(
+        || "lid contact lists".to_string(),
+        BLENDSHAPE_COUNT,
+        generic.contacts.len(),
+    )?;
     let rest = rest_triangles(generic, generic.shapes.neutral(), "neutral scan")?;
     let template_rest = rest_triangles(generic, &to_f64(&session.template.neutral), "template")?;
     let (prior, omega) = priors_and_weights(generic, &session.template, &rest, &template_rest);
@@ -235,6 +248,13 @@ pub fn ebfr_blendshapes(
     // Uncaptured shapes are exactly the generic ones, not their re-solve.
     for &j in &uncaptured {
         deltas[j].clone_from(&generic.shapes.deltas()[j]);
+    }
+    // Closed eyes: the lid pairs the template closes, closed by the Poisson
+    // step's own minimizer under them (module docs).
+    for &j in &unknowns {
+        generic
+            .transfer
+            .close_contacts(&mut deltas[j], &generic.contacts[j])?;
     }
     Ok(generic.shapes.with_deltas(deltas)?)
 }

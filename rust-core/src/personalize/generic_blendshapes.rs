@@ -3,10 +3,18 @@
 //! transfer \[47\], resulting in the generic blendshapes `T_1, …, T_m`",
 //! with virtual triangles across the eye holes (Saito 2013) so that the
 //! transferred blinks close. Every method starts from them.
+//!
+//! "Close" is a constraint, not an approximation: the lid pairs that a
+//! template shape closes (its [`Contacts`], judged by the template's own
+//! motion, see [`crate::geometry::deformation_transfer`]) are exactly
+//! closed in `T_j`, even where the template itself leaves them a little
+//! apart, as Apple's does. The contacts are kept with the generic shapes so
+//! that the fitted methods close the same pairs in their result
+//! ([`crate::personalize::blendshape_fit`], [`crate::personalize::ebfr`]).
 
 use super::error::PersonalizeError;
 use crate::arkit::Blendshapes;
-use crate::geometry::deformation_transfer::{DeformationTransfer, TransferError};
+use crate::geometry::deformation_transfer::{Contacts, DeformationTransfer, TransferError};
 use crate::geometry::mesh_boundary::eye_hole_triangles;
 use crate::session::{Session, Template};
 use glam::{DVec3, Vec3};
@@ -17,6 +25,10 @@ pub struct GenericBlendshapes {
     pub shapes: Blendshapes,
     /// The factored transfer onto `B₀` (EBFR reuses it).
     pub transfer: DeformationTransfer,
+    /// The lid pairs each template shape closes, in Apple's order: those of
+    /// eyeBlinkLeft and eyeBlinkRight, none for a shape that does not shut
+    /// an eye.
+    pub contacts: Vec<Contacts>,
 }
 
 fn to_f64(points: &[Vec3]) -> Vec<DVec3> {
@@ -41,8 +53,16 @@ pub fn generic_blendshapes(session: &Session) -> Result<GenericBlendshapes, Pers
     let neutral = to_f64(&session.neutral);
     let transfer = DeformationTransfer::new(&session.topology, &virtual_triangles, &neutral)?;
     let deltas = transfer_template(&transfer, &session.template)?;
+    let source_rest = to_f64(&session.template.neutral);
+    let contacts = session
+        .template
+        .shapes
+        .iter()
+        .map(|shape| transfer.contacts(&source_rest, &to_f64(shape)))
+        .collect::<Result<_, _>>()?;
     Ok(GenericBlendshapes {
         shapes: Blendshapes::new(neutral, deltas)?,
         transfer,
+        contacts,
     })
 }

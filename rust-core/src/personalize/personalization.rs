@@ -14,6 +14,12 @@
 //!
 //! The names and the product's default are in [`super::method`].
 //!
+//! Every method's blinks close the eye: the lid pairs that the template's
+//! eyeBlink closes (even short of touching, as Apple's does) are exactly
+//! closed in `T_j` by DT, and closed again in each fitted result
+//! ([`crate::personalize::blendshape_fit`], "Closed eyes"; EBFR in its
+//! Poisson step).
+//!
 //! Shapes whose prompt was not captured keep their generic shape `T_j`, and
 //! the result lists them.
 
@@ -173,6 +179,7 @@ fn assemble_fit<'g>(
         &captured_prompts(session),
         &observations(session, frames),
     )
+    .closing_lids(&generic.contacts)
 }
 
 #[cfg(test)]

@@ -74,15 +74,42 @@
 //! and lid partners up to 1.8 mm; weighting the virtual triangles 10 to 10⁵
 //! times more changed that by 1%.
 //!
-//! So contacts are kept explicitly: a virtual-triangle edge across the hole
-//! that closes in the source shape (to at most [`CONTACT_FRACTION`], 1%, of
-//! its rest length) constrains the target to `x'_a − x'_b = σ (s'_a − s'_b)`,
-//! about zero for a closed eye. The constrained minimizer reuses the
-//! factorization of `L` (one extra solve per contact; the maths is in
-//! `deformation_transfer/contacts.rs`). When the target is the source, or a
-//! scaled copy, the unconstrained solution already satisfies the contacts and
+//! So contacts are kept explicitly: where an eye closes in the source shape,
+//! each of its lid vertices is paired with its partner across the hole
+//! (a virtual-triangle edge) and the target is constrained to
+//! `x'_a − x'_b = 0`: closed, whatever gap the source leaves. The constrained
+//! minimizer reuses the factorization of `L` (one extra solve per contact; the
+//! maths is in `deformation_transfer/contacts.rs`).
+//!
+//! *When an eye closes* is judged by the source's own motion, relative to how
+//! open the eye was: the eye closes in a shape when every lid vertex comes
+//! within [`CONTACT_FRACTION`] (15%) of the eye's rest opening `O₀` of the
+//! other lid, and its contacts are the virtual-triangle edges then at most
+//! `0.15 · O₀` long (shortest first, one per lid vertex). A fraction of the
+//! opening means the same on a template in metres or centimetres. The rule
+//! must see a real closed eye as closed: Apple's template leaves the lids of
+//! its eyeBlink shapes 0.4–0.6 mm apart, 4–6% of an eye about 10 mm open
+//! (the adult palpebral fissure height), and there the former rule, "the
+//! edge shrinks to 1% of its rest length", never fired and the transferred
+//! blink stayed 0.4–0.5 mm open. It must not see a narrowed eye as closed:
+//! on the simulator's template (opening 10.5 mm) only eyeBlinkLeft/Right
+//! close an eye, to 0 (or 0.5 mm, 5%, on the Apple-like variant); the
+//! narrowest eye of any other shape is eyeSquint's, at 72% of its rest
+//! opening, then eyeLookDown's at 87%. 15% sits a factor of three or more
+//! from both. It is a fraction of the eye's opening rather than of each
+//! edge's own rest length because lid pairs near the corners are short at
+//! rest (1.3 mm on the simulated mask): a gap of 0.5 mm there is 38% of the
+//! pair's own length but 5% of the eye's opening. The eye-wide test keeps
+//! those short corner pairs (13% of the opening at rest) from counting as
+//! closed in shapes that do not close the eye.
+//!
+//! When the target is the source, or a scaled copy, and the source closes
+//! exactly, the unconstrained solution already satisfies the contacts and
 //! nothing changes. [`DeformationTransfer::with_contacts`] switches them off
-//! for a plain Sumner–Popović transfer.
+//! for a plain Sumner–Popović transfer. [`DeformationTransfer::contacts`]
+//! reports a shape's contacts, and [`DeformationTransfer::close_contacts`]
+//! closes them in any displacement field on the target (a fitted
+//! blendshape), by the correction of least gradient energy.
 //!
 //! # Files
 //!
@@ -103,15 +130,19 @@ use glam::{DMat3, DVec3};
 mod contacts;
 mod translation;
 
+pub use contacts::Contacts;
 use translation::components;
 
 /// Fraction of a shape's largest source displacement below which a vertex
 /// counts as still when the translation is fixed (see the module docs).
 pub const STILL_FRACTION: f64 = 0.01;
 
-/// Fraction of its rest length below which a hole edge counts as closed in
-/// a source shape, making a contact (see the module docs).
-pub const CONTACT_FRACTION: f64 = 0.01;
+/// Fraction of an eye's rest opening within which its lids count as closed
+/// in a source shape, making contacts (see the module docs, "Eyes and
+/// contacts"): 15%, a factor of three above the gap Apple's template leaves
+/// (5%) and below the narrowest eye of a shape that does not close it
+/// (eyeSquint's 72% on the simulated template).
+pub const CONTACT_FRACTION: f64 = 0.15;
 
 /// Marks a pinned vertex in the reduced system.
 const PINNED: u32 = u32::MAX;
@@ -176,9 +207,11 @@ pub struct DeformationTransfer {
     /// Row of each vertex in the reduced system, or [`PINNED`].
     unknown: Vec<u32>,
     unknown_count: usize,
-    /// Edges of virtual triangles that are not mesh edges, sorted.
-    hole_edges: Vec<[u32; 2]>,
-    contacts: bool,
+    /// Edges of virtual triangles that are not mesh edges, sorted, one list
+    /// per hole.
+    holes: Vec<Vec<[u32; 2]>>,
+    /// Whether `transfer_many` imposes the contacts.
+    impose_contacts: bool,
     llt: Llt<usize, f64>,
 }
 
@@ -291,7 +324,7 @@ impl DeformationTransfer {
         let llt = Llt::try_new_with_symbolic(symbolic, matrix.as_ref(), Side::Lower)
             .map_err(factor_error)?;
 
-        let hole_edges = contacts::hole_edges(&triangles, mesh_triangles);
+        let holes = contacts::hole_edges(n, &triangles, mesh_triangles);
 
         Ok(DeformationTransfer {
             triangles,
@@ -303,8 +336,8 @@ impl DeformationTransfer {
             component_count,
             unknown,
             unknown_count,
-            hole_edges,
-            contacts: true,
+            holes,
+            impose_contacts: true,
             llt,
         })
     }
@@ -313,7 +346,7 @@ impl DeformationTransfer {
     /// on or off (on by default; see the module docs). Off gives the plain
     /// Sumner–Popović transfer.
     pub fn with_contacts(mut self, enabled: bool) -> DeformationTransfer {
-        self.contacts = enabled;
+        self.impose_contacts = enabled;
         self
     }
 
@@ -440,8 +473,9 @@ impl DeformationTransfer {
         let mut motion = vec![DVec3::ZERO; n];
         for (delta, shape) in deltas.iter_mut().zip(source_shapes) {
             let shape = shape.as_ref();
-            if self.contacts {
-                self.enforce_contacts(delta, source_rest, shape, sigma)?;
+            if self.impose_contacts {
+                let contacts = self.find_contacts(source_rest, shape);
+                self.enforce_contacts(delta, &contacts)?;
             }
             for ((m, s), s0) in motion.iter_mut().zip(shape).zip(source_rest) {
                 *m = *s - *s0;

@@ -76,6 +76,9 @@ struct MethodReport {
     /// How λ was chosen (fits only): `fixed`, `gcv`, ….
     #[serde(skip_serializing_if = "Option::is_none")]
     lambda_rule: Option<String>,
+    /// The range of λ searched (fits only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    lambda_range: Option<[f64; 2]>,
     /// For each session, the end of the searched range the choice stopped
     /// at (`lower`, `upper`) or null (fits only).
     #[serde(skip_serializing_if = "Vec::is_empty")]
@@ -193,6 +196,7 @@ pub fn evaluation_report(
             truth_max_mm: truth.then(|| avg(&|m| m.truth_max_mm.unwrap_or(0.0))),
             lambda: choices.iter().map(|c| c.lambda).collect(),
             lambda_rule: choices.first().map(|c| c.rule.to_string()),
+            lambda_range: choices.first().map(|c| c.range),
             lambda_at_bound: choices
                 .iter()
                 .map(|c| c.at_bound.map(|b| b.name().to_string()))
@@ -285,7 +289,19 @@ pub fn print_table(report: &Value) {
             .filter_map(Value::as_f64)
             .map(|l| format!("{l:.1e}"))
             .collect();
-        println!("{:<10} λ by {rule}: {}", method.name(), lambdas.join(", "));
+        let range = match m["lambda_range"].as_array().map(Vec::as_slice) {
+            Some([lo, hi]) if lo != hi => format!(
+                " (searched {:e}…{:e})",
+                lo.as_f64().unwrap_or(f64::NAN),
+                hi.as_f64().unwrap_or(f64::NAN)
+            ),
+            _ => String::new(),
+        };
+        println!(
+            "{:<10} λ by {rule}{range}: {}",
+            method.name(),
+            lambdas.join(", ")
+        );
         let bounds = m["lambda_at_bound"].as_array().into_iter().flatten();
         for (session, bound) in sessions.iter().zip(bounds) {
             if let Some(bound) = bound.as_str() {

@@ -170,7 +170,11 @@ fn personalize_writes_the_neutral_and_52_named_shapes() {
         dir.to_str().unwrap(),
     ]);
     assert!(out.status.success(), "{}", stderr(&out));
-    assert!(stderr(&out).contains("λ = 1.000e0 (fixed)"), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("λ = 1.000e0 (fixed)"),
+        "{}",
+        stderr(&out)
+    );
     let files = std::fs::read_dir(&dir).unwrap().count();
     assert_eq!(files, 53);
     let smile = std::fs::read_to_string(dir.join("mouthSmileLeft.obj")).unwrap();

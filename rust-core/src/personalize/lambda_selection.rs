@@ -15,7 +15,11 @@
 //! no model of how a person deviates from the template
 //! ([`super::lambda_criteria`], where the formulas are derived). It works
 //! the same on a session without stream meshes (an imported OBJ + CSV
-//! folder) as on one with them. The marginal likelihood
+//! folder) as on one with them. `multi` uses the λ chosen on the captures:
+//! frames next to a peak repeat its tracker noise (ARKit filters over
+//! ~0.3 s), which cross-validation takes for independent evidence, and on
+//! `multi`'s own observations GCV runs to the lower bound of the range on
+//! every committed subject. The marginal likelihood
 //! ([`LambdaRule::Evidence`]) and held-out stream frames
 //! ([`LambdaRule::Holdout`], the former rule, which needs stream meshes)
 //! are kept for comparison (`sim-data/examples/lambda_study.rs`): on the

@@ -165,9 +165,15 @@ fn summary(rows: &[Row], form: &str) {
         rows.iter().filter(|r| r.form == form).map(f).sum::<f64>() / ratios.len() as f64
     };
     println!(
-        "{form}: {} subjects, chosen/oracle RMSE median {median:.3}, worst {worst:.3}, {within} within 5%, {bounds} at a bound",
+        "{form}: {} subjects, chosen/oracle RMSE median {median:.4}, worst {worst:.4}, {within} within 5%, {bounds} at a bound",
         ratios.len()
     );
+    for r in rows.iter().filter(|r| r.form == form) {
+        let ratio = r.chosen_err.0 / r.oracle_err.0;
+        if ratio > 1.05 {
+            println!("{form}: {} is {ratio:.4} of its oracle", r.subject);
+        }
+    }
     println!(
         "{form}: mean truth RMSE mm: paper-cv {:.4}, oracle {:.4}, multi {:.4}; mean max mm: paper-cv {:.3}, oracle {:.3}",
         mean(&|r| r.chosen_err.0),

@@ -4,6 +4,7 @@ use crate::CliResult;
 use crate::info::read_session;
 use likeness::io::obj_writer::write_obj;
 use likeness::personalize::evaluation::{MeanErrors, evaluate, mean_errors};
+use likeness::personalize::lambda_selection::LambdaChoice;
 use likeness::personalize::personalization::lambda_sweep;
 use likeness::personalize::{FitFrames, Method, personalize};
 use likeness::{Blendshape, Session};
@@ -40,10 +41,24 @@ pub fn personalize_command(file: &Path, method: Method, out: &Path) -> CliResult
         let names: Vec<_> = result.generic_fallback.iter().map(|s| s.name()).collect();
         eprintln!("not captured, generic shape used: {}", names.join(", "));
     }
-    if let Some(lambda) = result.lambda {
-        eprintln!("regularization λ = {lambda}");
+    if let Some(choice) = &result.lambda_choice {
+        eprintln!("regularization {}", describe_choice(choice));
     }
     Ok(())
+}
+
+/// `λ = 2.2e-5 (gcv)`, with the bound it stopped at, if any.
+fn describe_choice(choice: &LambdaChoice) -> String {
+    let bound = match choice.at_bound {
+        Some(bound) => format!(
+            ", at the {} bound of {:e}…{:e}",
+            bound.name(),
+            choice.range[0],
+            choice.range[1]
+        ),
+        None => String::new(),
+    };
+    format!("λ = {:.3e} ({}{bound})", choice.lambda, choice.rule)
 }
 
 /// Per-method results over all sessions.
@@ -55,8 +70,19 @@ struct MethodReport {
     truth_rmse_mm: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     truth_max_mm: Option<f64>,
+    /// The λ of each session (fits only).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     lambda: Vec<f64>,
+    /// How λ was chosen (fits only): `fixed`, `gcv`, ….
+    #[serde(skip_serializing_if = "Option::is_none")]
+    lambda_rule: Option<String>,
+    /// The range of λ searched (fits only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    lambda_range: Option<[f64; 2]>,
+    /// For each session, the end of the searched range the choice stopped
+    /// at (`lower`, `upper`) or null (fits only).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    lambda_at_bound: Vec<Option<String>>,
 }
 
 /// λ values of the accuracy study: the paper's 1 down to 10⁻⁶ (two decades
@@ -68,7 +94,7 @@ struct MethodRuns {
     method: Method,
     means: Vec<MeanErrors>,
     times: Vec<f64>,
-    lambdas: Vec<f64>,
+    choices: Vec<LambdaChoice>,
 }
 
 impl MethodRuns {
@@ -77,7 +103,7 @@ impl MethodRuns {
             method,
             means: Vec::new(),
             times: Vec::new(),
-            lambdas: Vec::new(),
+            choices: Vec::new(),
         }
     }
 }
@@ -142,7 +168,7 @@ pub fn evaluation_report(
             runs.means
                 .push(mean_errors(&evaluate(&result.shapes, &session)));
             runs.times.push(ms);
-            runs.lambdas.extend(result.lambda);
+            runs.choices.extend(result.lambda_choice);
             progress.inc(1);
         }
         let sweep = lambda_sweep(&session, FitFrames::Captures, &STUDY_GRID)?;
@@ -157,7 +183,7 @@ pub fn evaluation_report(
         method,
         means,
         times,
-        lambdas,
+        choices,
     } in &per_method
     {
         let n = means.len() as f64;
@@ -168,7 +194,13 @@ pub fn evaluation_report(
             max_mm: avg(&|m| m.max_mm),
             truth_rmse_mm: truth.then(|| avg(&|m| m.truth_rmse_mm.unwrap_or(0.0))),
             truth_max_mm: truth.then(|| avg(&|m| m.truth_max_mm.unwrap_or(0.0))),
-            lambda: lambdas.clone(),
+            lambda: choices.iter().map(|c| c.lambda).collect(),
+            lambda_rule: choices.first().map(|c| c.rule.to_string()),
+            lambda_range: choices.first().map(|c| c.range),
+            lambda_at_bound: choices
+                .iter()
+                .map(|c| c.at_bound.map(|b| b.name().to_string()))
+                .collect(),
         };
         methods.insert(method.to_string(), serde_json::to_value(report)?);
         let mut sorted = times.clone();
@@ -237,6 +269,47 @@ pub fn print_table(report: &Value) {
             f(&m["truth_max_mm"]),
             f(&report["timings_ms"][&name]),
         );
+    }
+    let sessions: Vec<&str> = report["sessions"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .filter_map(Value::as_str)
+        .collect();
+    println!();
+    for method in Method::ALL {
+        let m = &report["methods"][method.name()];
+        let Some(rule) = m["lambda_rule"].as_str() else {
+            continue;
+        };
+        let lambdas: Vec<String> = m["lambda"]
+            .as_array()
+            .into_iter()
+            .flatten()
+            .filter_map(Value::as_f64)
+            .map(|l| format!("{l:.1e}"))
+            .collect();
+        let range = match m["lambda_range"].as_array().map(Vec::as_slice) {
+            Some([lo, hi]) if lo != hi => format!(
+                " (searched {:e}…{:e})",
+                lo.as_f64().unwrap_or(f64::NAN),
+                hi.as_f64().unwrap_or(f64::NAN)
+            ),
+            _ => String::new(),
+        };
+        println!(
+            "{:<10} λ by {rule}{range}: {}",
+            method.name(),
+            lambdas.join(", ")
+        );
+        let bounds = m["lambda_at_bound"].as_array().into_iter().flatten();
+        for (session, bound) in sessions.iter().zip(bounds) {
+            if let Some(bound) = bound.as_str() {
+                println!(
+                    "           {session}: stopped at the {bound} bound of the range searched"
+                );
+            }
+        }
     }
     println!("\nthe paper's fit for fixed λ (mean over test expressions and sessions, mm):");
     println!(

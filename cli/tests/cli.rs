@@ -139,6 +139,15 @@ fn evaluate_json_has_the_documented_fields() {
         v["methods"]["paper-cv"]["lambda"].as_array().map(Vec::len),
         Some(1)
     );
+    // How λ was chosen, and whether it stopped at a bound of its range.
+    assert_eq!(v["methods"]["paper-cv"]["lambda_rule"], "gcv");
+    assert_eq!(v["methods"]["multi"]["lambda_rule"], "gcv");
+    assert_eq!(v["methods"]["paper"]["lambda_rule"], "fixed");
+    assert_eq!(
+        v["methods"]["paper-cv"]["lambda_at_bound"],
+        serde_json::json!([null])
+    );
+    assert!(v["methods"]["dt"].get("lambda_rule").is_none());
     for key in [
         "rmse_paper_over_ebfr",
         "rmse_paper_over_dt",
@@ -161,6 +170,11 @@ fn personalize_writes_the_neutral_and_52_named_shapes() {
         dir.to_str().unwrap(),
     ]);
     assert!(out.status.success(), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("λ = 1.000e0 (fixed)"),
+        "{}",
+        stderr(&out)
+    );
     let files = std::fs::read_dir(&dir).unwrap().count();
     assert_eq!(files, 53);
     let smile = std::fs::read_to_string(dir.join("mouthSmileLeft.obj")).unwrap();

@@ -1,11 +1,15 @@
 //! Personalization time (§3.2, the paper's Table 1) on the committed sample
 //! session of simulated subject 1 (1,220 vertices, 52 captures): each
 //! method's whole computation, template transfer included, as `personalize`
-//! runs it. Also the template transfer alone and the fit alone. Run with
+//! runs it. Also the template transfer alone, the fit alone, and the two
+//! steps of `paper-cv`'s choice of λ (reducing the sampled vertices, then
+//! the search over λ). Run with
 //! `cargo bench -p likeness --bench personalization`; no time is asserted.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use likeness::personalize::blendshape_fit::{BlendshapeFit, Observation};
+use likeness::personalize::lambda_criteria::RidgeCriteria;
+use likeness::personalize::lambda_selection::{LambdaRule, search_lambda};
 use likeness::personalize::regularization_weights::regularization_weights_per_shape;
 use likeness::personalize::{Method, generic_blendshapes, personalize};
 use likeness::session::file::decode;
@@ -44,6 +48,18 @@ fn personalization(c: &mut Criterion) {
     group.bench_function("fit (λ = 1, assembly + 1,220 solves)", |b| {
         b.iter(|| {
             BlendshapeFit::new(&generic.shapes, &weights, &[true; 52], &observations).solve(1.0)
+        })
+    });
+    let fit = BlendshapeFit::new(&generic.shapes, &weights, &[true; 52], &observations);
+    group.bench_function("choice of λ: reduction of the sampled vertices", |b| {
+        b.iter(|| RidgeCriteria::new(black_box(&fit)))
+    });
+    let criteria = RidgeCriteria::new(&fit);
+    group.bench_function("choice of λ: GCV search on the reduced sample", |b| {
+        b.iter(|| {
+            search_lambda(LambdaRule::Gcv, |lambda| {
+                Ok(criteria.terms(lambda, false)?.gcv())
+            })
         })
     });
     group.finish();

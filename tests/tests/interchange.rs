@@ -138,6 +138,18 @@ fn a_committed_session_survives_export_and_import() {
         assert!(a.vertices.is_none());
     }
     assert!((back.frame_rate - session.frame_rate).abs() < 0.01 * session.frame_rate);
+    // The default method chooses λ from the captures, not the stream: the
+    // imported session, which has no stream meshes, gets the same λ (up to
+    // the 7 decimals of the OBJ coordinates) by the same rule.
+    let method = likeness::personalize::Method::DEFAULT;
+    let as_recorded = likeness::personalize::personalize(&session, method).unwrap();
+    let imported = likeness::personalize::personalize(&back, method).unwrap();
+    let (a, b) = (
+        as_recorded.lambda_choice.unwrap(),
+        imported.lambda_choice.unwrap(),
+    );
+    assert_eq!(a.rule, b.rule);
+    assert!((a.lambda / b.lambda).ln().abs() < 0.05, "{a:?} vs {b:?}");
     fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -127,17 +127,44 @@ fn no_captures_is_an_error_for_fits_but_not_for_dt() {
 }
 
 #[test]
-fn paper_cv_reports_its_choice_of_lambda() {
+fn paper_cv_reports_its_choice_of_lambda_and_needs_no_stream() {
+    use likeness::personalize::lambda_selection::{LOG10_RANGE, LambdaRule};
     let r = personalize(sample(), Method::PaperCv).unwrap();
-    let lambda = r.lambda.unwrap();
-    assert_eq!(
-        r.lambda_scores.len(),
-        likeness::personalize::lambda_selection::LAMBDA_GRID.len()
-    );
-    let best = r
-        .lambda_scores
+    let choice = r.lambda_choice.clone().unwrap();
+    assert_eq!(choice.rule, LambdaRule::Gcv);
+    assert_eq!(r.lambda, Some(choice.lambda));
+    assert_eq!(choice.range, LOG10_RANGE.map(|x| 10f64.powf(x)));
+    // The best λ visited is the one chosen, inside the range.
+    let best = choice
+        .visited
         .iter()
-        .min_by(|a, b| a.mean_squared_m2.total_cmp(&b.mean_squared_m2))
+        .min_by(|a, b| a.criterion.total_cmp(&b.criterion))
         .unwrap();
-    assert_eq!(best.lambda, lambda);
+    assert_eq!(best.lambda, choice.lambda);
+    assert_eq!(choice.at_bound, None, "{choice:?}");
+    assert!(choice.visited.len() > 20);
+    // The choice uses the captures alone: without stream meshes it is the
+    // same.
+    let without_stream = changed(|s| {
+        for frame in &mut s.frames {
+            frame.vertices = None;
+        }
+    })
+    .unwrap();
+    let again = personalize(&without_stream, Method::PaperCv).unwrap();
+    assert_eq!(again.lambda_choice, Some(choice));
+    assert_eq!(again.shapes, r.shapes);
+    // `paper` reports its fixed λ = 1.
+    let paper = personalize(sample(), Method::Paper).unwrap();
+    let fixed = paper.lambda_choice.unwrap();
+    assert_eq!(
+        (fixed.rule, fixed.lambda, fixed.at_bound),
+        (LambdaRule::Fixed, 1.0, None)
+    );
+    assert!(
+        personalize(sample(), Method::Dt)
+            .unwrap()
+            .lambda_choice
+            .is_none()
+    );
 }

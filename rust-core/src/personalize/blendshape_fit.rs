@@ -92,6 +92,11 @@ pub struct BlendshapeFit<'a> {
     gram: Mat<f64>,
     /// `Wᵀ C r` over the captured shapes: row = shape, column = 3v + axis.
     cross: Mat<f64>,
+    /// `C^½ W` over the captured shapes (`m × k`), kept for the choice of λ
+    /// ([`super::lambda_criteria`]).
+    w: Mat<f64>,
+    /// `C^½ r`: row = observation, column = 3v + axis, kept likewise.
+    r: Mat<f64>,
     /// Why the parts given to [`BlendshapeFit::new`] do not fit together,
     /// reported by [`BlendshapeFit::solve`].
     mismatch: Option<PersonalizeError>,
@@ -179,6 +184,8 @@ impl<'a> BlendshapeFit<'a> {
             captured: unknowns,
             gram,
             cross,
+            w,
+            r,
             mismatch,
             lids: None,
         }
@@ -211,6 +218,42 @@ impl<'a> BlendshapeFit<'a> {
         }
         self.lids = Some(contacts);
         self
+    }
+
+    /// The generic blendshapes `B₀`, `T_j` the fit starts from.
+    pub(crate) fn generic(&self) -> &'a Blendshapes {
+        self.generic
+    }
+
+    /// Apple's indices of the unknown (captured) shapes, in order.
+    pub(crate) fn unknowns(&self) -> &[usize] {
+        &self.captured
+    }
+
+    /// `C^½ W` (`m × k`): the importance-scaled weights of the unknowns.
+    pub(crate) fn design(&self) -> &Mat<f64> {
+        &self.w
+    }
+
+    /// `C^½ r` of column `3v + axis`: the importance-scaled observations of
+    /// that coordinate, less `B₀` and the uncaptured shapes.
+    pub(crate) fn observed(&self, column: usize) -> faer::ColRef<'_, f64> {
+        self.r.col(column)
+    }
+
+    /// `Wᵀ C W` over the unknown shapes (`k × k`).
+    pub(crate) fn gram(&self) -> &Mat<f64> {
+        &self.gram
+    }
+
+    /// `D²` of Apple's shape `j` at vertex `v`.
+    pub(crate) fn d2(&self, v: usize, j: usize) -> f64 {
+        self.d2[v * BLENDSHAPE_COUNT + j]
+    }
+
+    /// The fit's parts do not fit together (see [`BlendshapeFit::new`]).
+    pub(crate) fn mismatch(&self) -> Option<&PersonalizeError> {
+        self.mismatch.as_ref()
     }
 
     /// Solves for regularization strength `λ` (the paper: 1). Returns `B₀`
@@ -284,7 +327,7 @@ impl<'a> BlendshapeFit<'a> {
 /// `cross(e, a, c)` and the prior `P_e` is `prior(e, a, c)`. Returns the
 /// solutions, entry `(e, a, c)` at `(e·k + a)·r + c`, or the first element
 /// whose system is not positive definite. The elements are independent, so
-/// they are split over the machine's cores; each factorization is faer's
+/// they are split over the machine's cores ([`in_parallel_ranges`]); each factorization is faer's
 /// in-place Cholesky, with no allocation per element.
 pub(crate) fn solve_shared_gram(
     gram: &Mat<f64>,
@@ -331,28 +374,36 @@ pub(crate) fn solve_shared_gram(
         }
         Ok(out)
     };
+    let parts = in_parallel_ranges(count, solve_range);
+    let mut out = Vec::with_capacity(count * k * r);
+    for part in parts {
+        out.extend(part.unwrap_or(Err(0))?);
+    }
+    Ok(out)
+}
+
+/// Splits `0..count` into one contiguous range per core (at most 8) and
+/// runs `work` on each in its own thread; returns the results in the order
+/// of the ranges, `None` for a range whose thread panicked.
+pub(crate) fn in_parallel_ranges<T: Send>(
+    count: usize,
+    work: impl Fn(std::ops::Range<usize>) -> T + Sync,
+) -> Vec<Option<T>> {
     let threads = std::thread::available_parallelism()
         .map_or(1, |n| n.get())
         .clamp(1, 8)
         .min(count.max(1));
     let chunk = count.div_ceil(threads);
-    let parts: Vec<Result<Vec<f64>, usize>> = std::thread::scope(|scope| {
+    let work = &work;
+    std::thread::scope(|scope| {
         let handles: Vec<_> = (0..threads)
             .map(|t| {
                 let range = (t * chunk).min(count)..((t + 1) * chunk).min(count);
-                scope.spawn(move || solve_range(range))
+                scope.spawn(move || work(range))
             })
             .collect();
-        handles
-            .into_iter()
-            .map(|h| h.join().unwrap_or(Err(0)))
-            .collect()
-    });
-    let mut out = Vec::with_capacity(count * k * r);
-    for part in parts {
-        out.extend(part?);
-    }
-    Ok(out)
+        handles.into_iter().map(|h| h.join().ok()).collect()
+    })
 }
 
 #[cfg(test)]

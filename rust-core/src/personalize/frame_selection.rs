@@ -1,5 +1,6 @@
 //! Which frames of the capture stream, besides the captured peaks, the fit
-//! uses (`multi`) and which it holds out to choose λ (`paper-cv`).
+//! uses (`multi`) and which held-out frames score λ for the comparison rule
+//! [`LambdaRule::Holdout`](crate::personalize::lambda_selection::LambdaRule::Holdout).
 //!
 //! Around each captured peak the stream holds the ramp up, the peak and the
 //! hold of the same expression: the same blendshape at other weights, and

@@ -9,8 +9,8 @@
 //! | `dt` | `B_j = T_j` (Sumner & Popović 2004; the paper's DT baseline) |
 //! | `ebfr` | Li, Weise & Pauly 2010, blendshape step with known weights ([`crate::personalize::ebfr`]) |
 //! | `paper` | Eq. (1)–(3) literally: `E_fit + E_reg` ([`crate::personalize::blendshape_fit`]) |
-//! | `paper-cv` | `E_fit + λ·E_reg`, λ chosen per session on held-out stream frames ([`crate::personalize::lambda_selection`]) |
-//! | `multi` | as `paper-cv`, fitted to frames around each peak as well ([`crate::personalize::frame_selection`]) |
+//! | `paper-cv` | `E_fit + λ·E_reg`, λ by generalized cross-validation on the captures ([`crate::personalize::lambda_selection`]) |
+//! | `multi` | as `paper-cv` (λ chosen on the captures), fitted to frames around each peak as well ([`crate::personalize::frame_selection`]) |
 //!
 //! The names and the product's default are in [`super::method`].
 //!
@@ -28,7 +28,7 @@ use super::ebfr::ebfr_blendshapes;
 use super::error::PersonalizeError;
 use super::frame_selection::fit_frames;
 use super::generic_blendshapes::{GenericBlendshapes, generic_blendshapes};
-use super::lambda_selection::{LAMBDA_GRID, LambdaScore, choose_lambda};
+use super::lambda_selection::{LambdaChoice, LambdaRule, choose_lambda};
 use super::method::{FitFrames, Method};
 use super::regularization_weights::regularization_weights_per_shape;
 use crate::arkit::{BLENDSHAPE_COUNT, Blendshape, Blendshapes, Weights};
@@ -46,9 +46,9 @@ pub struct Personalized {
     pub generic_fallback: Vec<Blendshape>,
     /// The regularization strength used (fits only).
     pub lambda: Option<f64>,
-    /// `paper-cv`/`multi`: the validation error of each λ of
-    /// [`LAMBDA_GRID`], in grid order.
-    pub lambda_scores: Vec<LambdaScore>,
+    /// How it was chosen (fits only): the rule, whether the choice stopped
+    /// at a bound of the range searched, and the λ visited.
+    pub lambda_choice: Option<LambdaChoice>,
 }
 
 fn weights_f64(w: &Weights) -> [f64; BLENDSHAPE_COUNT] {
@@ -59,36 +59,32 @@ fn weights_f64(w: &Weights) -> [f64; BLENDSHAPE_COUNT] {
 pub fn personalize(session: &Session, method: Method) -> Result<Personalized, PersonalizeError> {
     let generic = generic_blendshapes(session)?;
     let captured = captured_prompts(session);
-    let finish = |shapes, lambda, lambda_scores| Personalized {
+    let finish = |shapes, lambda_choice: Option<LambdaChoice>| Personalized {
         method,
         shapes,
         generic_fallback: Blendshape::ALL
             .into_iter()
             .filter(|s| !captured[s.index()])
             .collect(),
-        lambda,
-        lambda_scores,
+        lambda: lambda_choice.as_ref().map(|c| c.lambda),
+        lambda_choice,
     };
     if method != Method::Dt && session.captures.is_empty() {
         return Err(PersonalizeError::NoCaptures);
     }
-    let chosen_lambda = |frames| -> Result<Personalized, PersonalizeError> {
-        let fit = assemble_fit(session, &generic, frames);
-        let choice = choose_lambda(session, &fit, &LAMBDA_GRID)?;
-        Ok(finish(choice.shapes, Some(choice.lambda), choice.scores))
+    let fitted = |frames, rule| -> Result<Personalized, PersonalizeError> {
+        let (choice, shapes) = fit_with_rule(session, &generic, frames, rule)?;
+        Ok(finish(shapes, Some(choice)))
     };
     match method {
-        Method::Dt => Ok(finish(generic.shapes.clone(), None, Vec::new())),
+        Method::Dt => Ok(finish(generic.shapes.clone(), None)),
         Method::Ebfr => {
             let shapes = ebfr_blendshapes(session, &generic, &captured)?;
-            Ok(finish(shapes, None, Vec::new()))
+            Ok(finish(shapes, None))
         }
-        Method::Paper => {
-            let fit = assemble_fit(session, &generic, FitFrames::Captures);
-            Ok(finish(fit.solve(1.0)?, Some(1.0), Vec::new()))
-        }
-        Method::PaperCv => chosen_lambda(FitFrames::Captures),
-        Method::Multi => chosen_lambda(FitFrames::AroundPeaks),
+        Method::Paper => fitted(FitFrames::Captures, LambdaRule::Fixed),
+        Method::PaperCv => fitted(FitFrames::Captures, LambdaRule::Gcv),
+        Method::Multi => fitted(FitFrames::AroundPeaks, LambdaRule::Gcv),
     }
 }
 
@@ -154,6 +150,44 @@ pub fn lambda_sweep(
             })
         })
         .collect()
+}
+
+/// The paper's fit with `frames`, λ chosen by `rule`: the choice and the
+/// blendshapes fitted with it. `personalize` with `paper`, `paper-cv` or
+/// `multi` is this with [`LambdaRule::Fixed`] or [`LambdaRule::Gcv`] and
+/// the captures, or GCV and the frames around the peaks; the other rules
+/// are there to compare.
+pub fn lambda_fit(
+    session: &Session,
+    frames: FitFrames,
+    rule: LambdaRule,
+) -> Result<(LambdaChoice, Blendshapes), PersonalizeError> {
+    if session.captures.is_empty() {
+        return Err(PersonalizeError::NoCaptures);
+    }
+    fit_with_rule(session, &generic_blendshapes(session)?, frames, rule)
+}
+
+fn fit_with_rule(
+    session: &Session,
+    generic: &GenericBlendshapes,
+    frames: FitFrames,
+    rule: LambdaRule,
+) -> Result<(LambdaChoice, Blendshapes), PersonalizeError> {
+    let fit = assemble_fit(session, generic, frames);
+    let choice = match (frames, rule) {
+        // Frames next to a peak repeat its noise (the tracker filters over
+        // ~0.3 s), which cross-validation takes for independent evidence:
+        // λ is chosen on the captures alone, whose energy gives each prompt
+        // the same total weight as the `multi` energy does.
+        (FitFrames::AroundPeaks, LambdaRule::Gcv | LambdaRule::Evidence) => {
+            let captures = assemble_fit(session, generic, FitFrames::Captures);
+            choose_lambda(session, &captures, rule)?
+        }
+        _ => choose_lambda(session, &fit, rule)?,
+    };
+    let shapes = fit.solve(choice.lambda)?;
+    Ok((choice, shapes))
 }
 
 /// Which prompts were captured: the unknowns of the fits. (Indexed by

@@ -90,11 +90,11 @@ impl RestLevels {
 
     /// Every weight measured from its rest level.
     pub fn relative_weights(&self, weights: &Weights) -> Weights {
-        Weights(std::array::from_fn::<f32, BLENDSHAPE_COUNT, _>(|j| {
-            Blendshape::ALL
-                .get(j)
-                .map_or(0.0, |s| self.relative(*s, weights.get(*s)))
-        }))
+        let mut out = *weights;
+        for (shape, w) in weights.iter() {
+            out.set(shape, self.relative(shape, w));
+        }
+        out
     }
 
     /// The shape resting highest, if its level is above `level`.

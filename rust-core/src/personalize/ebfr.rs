@@ -36,13 +36,13 @@
 
 use super::blendshape_fit::solve_shared_gram;
 use super::error::{PersonalizeError, SingularFit, check_size};
-use super::generic_blendshapes::GenericBlendshapes;
+use super::generic_blendshapes::{GenericBlendshapes, to_f64};
 use crate::arkit::{BLENDSHAPE_COUNT, Blendshapes};
 use crate::geometry::deformation_gradient::RestTriangle;
 use crate::geometry::deformation_transfer::TransferError;
 use crate::session::{Session, Template};
 use faer::Mat;
-use glam::{DMat3, DVec3, Vec3};
+use glam::{DMat3, DVec3};
 
 /// κ of Li et al.'s weight.
 pub const KAPPA: f64 = 0.1;
@@ -72,10 +72,6 @@ fn entries(m: DMat3) -> [f64; 9] {
 
 fn corners(p: &[DVec3], t: &[u32; 3]) -> [DVec3; 3] {
     t.map(|v| p[v as usize])
-}
-
-fn to_f64(points: &[Vec3]) -> Vec<DVec3> {
-    points.iter().map(|p| p.as_dvec3()).collect()
 }
 
 /// Per-triangle quantities indexed `[j * triangles + t]`.
@@ -266,6 +262,7 @@ mod tests {
     use crate::geometry::topology::Topology;
     use crate::personalize::generic_blendshapes;
     use crate::test_support::{face_grid, stretch_session};
+    use glam::Vec3;
 
     #[test]
     fn generic_blendshapes_of_another_face_are_an_error_not_a_panic() {

@@ -31,7 +31,8 @@ pub struct GenericBlendshapes {
     pub contacts: Vec<Contacts>,
 }
 
-fn to_f64(points: &[Vec3]) -> Vec<DVec3> {
+/// Single-precision mesh points in double precision.
+pub(crate) fn to_f64(points: &[Vec3]) -> Vec<DVec3> {
     points.iter().map(|p| p.as_dvec3()).collect()
 }
 

@@ -82,13 +82,13 @@ fn a_live_link_face_export_of_the_weights_replays_within_two_frames() {
 /// Simulated people whose relaxed faces rest high on three groups of shapes
 /// (0.3–0.5, e.g. browDown on both sides): the neutral scan is taken within
 /// 3 s of stillness (the simulated person is still from the start) and says
-/// so, every prompt is captured, and every prompt of a shape that does not
-/// rest high within ±2 frames of its true peak (before rest levels, the
-/// neutral scan never finished). The high-resting shapes themselves
-/// saturate at 1 when performed and the mesh places their peak: on these
-/// seeds 9 of their 15 captures are within ±2 frames, the others 3–37 frames
-/// late (mouthPress and cheekSquint, whose motion is small against the mesh
-/// noise) — reported, not yet asserted.
+/// so, and every prompt is captured within ±2 frames of its true peak
+/// (before rest levels, the neutral scan never finished). The high-resting
+/// shapes saturate at 1 when performed; their companion weights or the mesh
+/// place the peak (`saturated_peak`). On fresh seeds 60–71 and 80–99, 159
+/// of those shapes' 164 captures are within ±2 frames (the misses:
+/// cheekSquint 3–6, mouthPress 32 and mouthFrown 46 frames late) and every
+/// other prompt is; these three seeds were looked at while it was built.
 #[test]
 fn people_who_rest_high_finish_the_neutral_scan_and_every_prompt() {
     use likeness_sim::capture_session::{SimulationOptions, simulate_session_with};
@@ -129,13 +129,15 @@ fn people_who_rest_high_finish_the_neutral_scan_and_every_prompt() {
                 continue;
             };
             let error = step.frame_error().expect("captured, with truth");
-            if high.contains(&shape) {
-                eprintln!(
-                    "seed {seed}: {shape} rests high, captured {error:+} frames from its peak"
-                );
+            let rests = if high.contains(&shape) {
+                " (rests high)"
             } else {
-                assert!(error.abs() <= 2, "seed {seed}: {shape} {error:+} frames");
-            }
+                ""
+            };
+            assert!(
+                error.abs() <= 2,
+                "seed {seed}: {shape}{rests} {error:+} frames"
+            );
         }
     }
 }

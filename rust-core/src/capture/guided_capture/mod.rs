@@ -16,10 +16,12 @@
 //! |---|---|---|
 //! | §3.1 "scans their own face in a neutral expression" | every weight low and the face still for a second | [`neutral_detector`] |
 //! | §3.1 "captures the facial expression when the requested expression is performed to a sufficient extent" | weak, dominated, tracking lost | [`capture_quality`] |
+//! | §3.1, beyond the paper: a weight clamped at 1 over the peak | the peak from the companion weights or the mesh | [`saturated_peak`] |
 //! | §3.1 | steps, events, skip, retake, timeouts (the types here) | `mod.rs`, `state_machine.rs` |
 
 pub mod capture_quality;
 pub mod neutral_detector;
+pub mod saturated_peak;
 
 pub use capture_quality::{CaptureQuality, QualityConfig};
 pub use neutral_detector::{NeutralConfig, NeutralDetector, NeutralScan};
@@ -30,6 +32,7 @@ use crate::capture::prompt_order::{PROMPT_ORDER, instruction};
 use crate::capture::rest_levels::RestLevels;
 use crate::session::Frame;
 use glam::Vec3;
+use saturated_peak::StretchFrame;
 use std::collections::VecDeque;
 
 /// One step of the guided capture.

@@ -126,7 +126,7 @@ impl GuidedCapture {
                     frame,
                 });
                 if let Some(peak) = peak {
-                    let at = self.peak_frame(&peak);
+                    let at = self.peak_frame(step, &peak);
                     self.capture_peak(step, at, &mut events);
                 } else if timed_out {
                     self.skip_step(SkipReason::TimedOut, &mut events);
@@ -242,56 +242,30 @@ impl GuidedCapture {
         Ok(())
     }
 
-    /// The detector frame to capture for `peak`: its frame, unless the
-    /// weight was saturated over a stretch. Then the clamped weight cannot
-    /// tell where the face peaked, but the mesh still can. With `D` the mean
-    /// displacement from the neutral scan over the stretch (the expression's
-    /// own shape, whatever other shapes and noise add) and `x(t) − n` each
-    /// frame's, the face is furthest into the expression where the
-    /// projection `Σ_v (x_v(t) − n_v) · D_v` is largest; that retained frame
-    /// is taken. Without meshes (a weights-only stream, or no neutral mesh)
-    /// the stretch's middle stays.
-    fn peak_frame(&self, peak: &Peak) -> usize {
-        let (Some((first, last)), Some(neutral)) = (
-            peak.saturated,
-            self.neutral.as_ref().and_then(|n| n.vertices.as_ref()),
-        ) else {
+    /// The detector frame to capture for `peak` of `step`: its frame,
+    /// unless the weight was saturated over a stretch; then the companion
+    /// weights or the mesh tell where the face peaked
+    /// ([`saturated_peak`](super::saturated_peak)).
+    fn peak_frame(&self, step: Step, peak: &Peak) -> usize {
+        let (Some((first, last)), Step::Expression(shape)) = (peak.saturated, step) else {
             return peak.frame;
         };
-        let stretch: Vec<(usize, &Vec<Vec3>)> = self
-            .retained
-            .iter()
-            .filter_map(|r| {
-                let at = r.detector_index.filter(|i| (first..=last).contains(i))?;
-                let mesh = r
-                    .frame
-                    .vertices
-                    .as_ref()
-                    .filter(|m| m.len() == neutral.len())?;
-                Some((at, mesh))
-            })
-            .collect();
-        if stretch.is_empty() {
-            return peak.frame;
-        }
-        let mut direction = vec![Vec3::ZERO; neutral.len()];
-        for (_, mesh) in &stretch {
-            for ((d, p), q) in direction.iter_mut().zip(mesh.iter()).zip(neutral) {
-                *d += *p - *q;
-            }
-        }
-        let projection = |mesh: &[Vec3]| -> f32 {
-            mesh.iter()
-                .zip(neutral)
-                .zip(&direction)
-                .map(|((p, q), d)| (*p - *q).dot(*d))
-                .sum()
+        let latency = self.config.peak.latency_frames.max(0.0).round() as usize;
+        let within = |from: usize, to: usize| -> Vec<StretchFrame> {
+            self.retained
+                .iter()
+                .filter_map(|r| {
+                    let at = r.detector_index.filter(|i| (from..=to).contains(i))?;
+                    Some((at, &r.frame))
+                })
+                .collect()
         };
-        stretch
-            .iter()
-            .map(|(at, mesh)| (*at, projection(mesh)))
-            .max_by(|a, b| a.1.total_cmp(&b.1))
-            .map_or(peak.frame, |(at, _)| at)
+        let stretch = within(first, last);
+        let lagged = within(first + latency, last + latency);
+        let rest = self.neutral.as_ref().map_or(Weights::ZERO, |n| n.weights);
+        let neutral = self.neutral.as_ref().and_then(|n| n.vertices.as_deref());
+        saturated_peak::peak_in_stretch(shape, &stretch, &lagged, latency, &rest, neutral)
+            .unwrap_or(peak.frame)
     }
 
     /// Records the peak at detector frame `at` as the capture of `step`.

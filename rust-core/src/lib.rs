@@ -13,6 +13,7 @@
 //! | the session model, its binary file and OBJ + CSV folders | §3.1 | [`session`] |
 //! | peak detection and the guided capture | §3.1 | [`capture`] |
 //! | personalized blendshapes, baselines and evaluation | §3.2, §4.1 | [`personalize`] |
+//! | the avatar: glTF, its face, retargeting and transfer | §3.3 | [`avatar`] |
 //!
 //! A folder uses only the folders above it in this table (a test in
 //! `tests/tests/module_layers.rs` checks it). This crate holds every
@@ -22,6 +23,7 @@
 #![warn(missing_docs)]
 
 pub mod arkit;
+pub mod avatar;
 pub mod capture;
 pub mod geometry;
 pub mod io;

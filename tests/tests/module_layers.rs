@@ -15,13 +15,14 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// The core's folders in pipeline order, as its `lib.rs` lists them.
-const LAYERS: [&str; 6] = [
+const LAYERS: [&str; 7] = [
     "arkit",
     "geometry",
     "io",
     "session",
     "capture",
     "personalize",
+    "avatar",
 ];
 
 /// Module path of a source file: `src/personalize/ebfr.rs` →

@@ -1,0 +1,13 @@
+//! §3.3, the avatar: reading it, finding its face, retargeting ARKit's
+//! shapes onto its own blendshapes, and writing it back with new shapes.
+//!
+//! | paper | what | file |
+//! |---|---|---|
+//! | §3.3 "the provided full-body avatar" | meshes in world space, their morph targets | [`model`] |
+//! | §3.3 "the avatar's blendshapes" | target names to ARKit's 52, split halves | [`target_names`] |
+
+pub mod model;
+pub mod target_names;
+
+pub use model::{Avatar, AvatarMesh, AvatarPart};
+pub use target_names::{ArkitTargets, TargetName, parse_target_name};

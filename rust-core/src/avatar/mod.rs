@@ -5,8 +5,10 @@
 //! |---|---|---|
 //! | §3.3 "the provided full-body avatar" | meshes in world space, their morph targets | [`model`] |
 //! | §3.3 "the avatar's blendshapes" | target names to ARKit's 52, split halves | [`target_names`] |
+//! | §3.3 "non-rigid registration [1]", "ICP with scaling [52]" | finding the face, the map `M` | [`registration`] |
 
 pub mod model;
+pub mod registration;
 pub mod target_names;
 
 pub use model::{Avatar, AvatarMesh, AvatarPart};

@@ -9,7 +9,9 @@
 //! | §3.2, virtual eye triangles (Saito 2013) | boundary loops, eye holes spanned lid to lid | [`mesh_boundary`] |
 //! | §3.2 (ref. 47) | per-triangle deformation gradients (Sumner & Popović 2004) | [`deformation_gradient`] |
 //! | §3.2 (ref. 47), §3.3 | gradient-domain deformation transfer (Botsch et al. 2006), lid contacts, translation | [`deformation_transfer`] |
+//! | §3.3, ICP and the map `M` | exact closest points on a triangle mesh, binned in a grid (Ericson 2005) | [`closest_point`] |
 
+pub mod closest_point;
 pub mod deformation_gradient;
 pub mod deformation_transfer;
 pub mod mesh_boundary;

@@ -1,0 +1,22 @@
+//! §3.3, finding the face on an avatar: the ARKit mask registered onto the
+//! avatar's face, rigidly with scale and then non-rigidly, and the
+//! correspondence map `M` read off the result.
+//!
+//! | paper | what | file |
+//! |---|---|---|
+//! | §3.3 "ICP with scaling [52]" | least-squares similarity of point pairs (Umeyama 1991) | [`similarity`] |
+//! | §3.3, beyond the paper: no hand-placed landmarks | where eyeBlink, jawOpen, … move most on each rig | [`features`] |
+//! | §3.3 "ICP with scaling [52]" (Zinßer et al. 2005) | the mask placed on the avatar by a similarity | [`rigid_icp`] |
+//! | §3.3 "non-rigid registration [1]" (Achenbach et al. 2017) | the mask laid onto the avatar's skin | [`nonrigid`] |
+//! | §3.3 "correspondence map M" | avatar face vertices → mask triangle + barycentrics | [`correspondence`] |
+//! | §3.3, once per avatar topology | the whole search, its report and errors, the cache key | [`find_face`] |
+pub mod correspondence;
+pub mod features;
+pub mod find_face;
+pub mod nonrigid;
+pub mod rigid_icp;
+pub mod similarity;
+
+pub use correspondence::{CorrespondenceMap, FaceVertex};
+pub use find_face::{FaceRegistration, RegistrationError, find_face};
+pub use similarity::Similarity;

@@ -1,0 +1,189 @@
+//! Finding the face (§3.3) on avatars whose true correspondence to the
+//! ARKit mask is known: the simulator's mask, re-meshed (each triangle split
+//! into four, so every avatar vertex lies on a known mask point), placed in
+//! other units, orientations and origins.
+
+use glam::{DMat3, DVec3, Vec3};
+use likeness::avatar::registration::{FaceRegistration, RegistrationError, Similarity, find_face};
+use likeness::avatar::{Avatar, AvatarMesh, AvatarPart};
+use likeness::{Blendshape, Blendshapes};
+use likeness_sim::face_mask::face_mask;
+use likeness_sim::template::generic_template;
+use std::collections::HashMap;
+
+/// The generic template as blendshapes (neutral + deltas, f64).
+fn rig() -> Blendshapes {
+    let t = generic_template();
+    let neutral: Vec<DVec3> = t.neutral.iter().map(|p| p.as_dvec3()).collect();
+    let deltas = t
+        .shapes
+        .iter()
+        .map(|s| {
+            s.iter()
+                .zip(&neutral)
+                .map(|(p, n)| p.as_dvec3() - *n)
+                .collect()
+        })
+        .collect();
+    Blendshapes::new(neutral, deltas).expect("a checked template")
+}
+
+/// The mask split 1-to-4 and moved by `placement`: the avatar, and for each
+/// of its vertices the mask point it truly is (as weights on mask vertices).
+fn remeshed_mask(placement: Similarity) -> (Avatar, Vec<Vec<(u32, f64)>>) {
+    let mask = face_mask();
+    let rig = rig();
+    let mut truth: Vec<Vec<(u32, f64)>> = (0..mask.neutral.len() as u32)
+        .map(|i| vec![(i, 1.0)])
+        .collect();
+    let mut midpoint: HashMap<(u32, u32), u32> = HashMap::new();
+    let mut triangles = Vec::new();
+    for t in mask.topology.triangles() {
+        let mut mid = [0u32; 3];
+        for k in 0..3 {
+            let (a, b) = (t[k].min(t[(k + 1) % 3]), t[k].max(t[(k + 1) % 3]));
+            mid[k] = *midpoint.entry((a, b)).or_insert_with(|| {
+                truth.push(vec![(a, 0.5), (b, 0.5)]);
+                truth.len() as u32 - 1
+            });
+        }
+        triangles.push([t[0], mid[0], mid[2]]);
+        triangles.push([mid[0], t[1], mid[1]]);
+        triangles.push([mid[2], mid[1], t[2]]);
+        triangles.push([mid[0], mid[1], mid[2]]);
+    }
+    let at = |field: &[DVec3], w: &[(u32, f64)]| -> DVec3 {
+        w.iter().map(|(i, c)| field[*i as usize] * *c).sum()
+    };
+    let positions: Vec<Vec3> = truth
+        .iter()
+        .map(|w| placement.apply(at(rig.neutral(), w)).as_vec3())
+        .collect();
+    let targets: Vec<Vec<Vec3>> = Blendshape::ALL
+        .iter()
+        .map(|b| {
+            truth
+                .iter()
+                .map(|w| placement.apply_vector(at(rig.delta(*b), w)).as_vec3())
+                .collect()
+        })
+        .collect();
+    let avatar = Avatar {
+        meshes: vec![AvatarMesh {
+            name: Some("head".into()),
+            target_names: Blendshape::ALL
+                .iter()
+                .map(|b| b.name().to_string())
+                .collect(),
+        }],
+        parts: vec![AvatarPart {
+            name: "head".into(),
+            mesh: 0,
+            primitive: 0,
+            positions,
+            triangles,
+            targets,
+        }],
+    };
+    (avatar, truth)
+}
+
+/// Largest distance (mm of the mask's scale) between where `M` puts each
+/// face vertex on the true mask and where it truly is.
+fn map_error_mm(found: &FaceRegistration, truth: &[Vec<(u32, f64)>]) -> f64 {
+    let rig = rig();
+    let on_mask = found.map.apply(rig.neutral());
+    found
+        .map
+        .face
+        .iter()
+        .zip(on_mask)
+        .map(|(f, p)| {
+            let t: DVec3 = truth[f.vertex as usize]
+                .iter()
+                .map(|(i, c)| rig.neutral()[*i as usize] * *c)
+                .sum();
+            (p - t).length() * 1000.0
+        })
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn the_face_is_found_in_metres_centimetres_and_any_orientation() {
+    let mask = face_mask();
+    let placements = [
+        ("as the mask", Similarity::IDENTITY),
+        (
+            "centimetres, Z-up, off the origin",
+            Similarity {
+                scale: 100.0,
+                rotation: DMat3::from_rotation_x(std::f64::consts::FRAC_PI_2),
+                translation: DVec3::new(12.0, -3.0, 160.0),
+            },
+        ),
+        (
+            "an arbitrary similarity",
+            Similarity {
+                scale: 0.37,
+                rotation: DMat3::from_euler(glam::EulerRot::YXZ, 2.5, -0.7, 1.9),
+                translation: DVec3::new(-4.0, 2.0, 0.5),
+            },
+        ),
+    ];
+    for (what, placement) in placements {
+        let (avatar, truth) = remeshed_mask(placement);
+        let found = find_face(&avatar, &mask.topology, &rig()).expect("a face");
+        let scale_error = (found.similarity.scale / placement.scale - 1.0).abs();
+        let error = map_error_mm(&found, &truth);
+        eprintln!(
+            "{what}: {} face vertices of {}, residual mean {:.4} max {:.4} mm, map error ≤ {error:.4} mm, scale {:.5}, {} ICP iterations, {:.0} ms",
+            found.map.face.len(),
+            avatar.vertex_count(),
+            found.residual_mean_mm,
+            found.residual_max_mm,
+            found.similarity.scale / placement.scale,
+            found.icp_iterations,
+            found.seconds * 1e3
+        );
+        assert!(scale_error < 1e-3, "{what}: scale off by {scale_error}");
+        assert!(found.residual_mean_mm < 0.01, "{what}");
+        assert!(error < 0.01, "{what}: map error {error} mm");
+        // Every vertex away from the mask's boundary is in the face region.
+        assert!(
+            found.map.face.len() as f64 > 0.9 * avatar.vertex_count() as f64,
+            "{what}"
+        );
+    }
+}
+
+#[test]
+fn an_avatar_without_blink_or_jaw_shapes_is_a_clear_error() {
+    let (mut avatar, _) = remeshed_mask(Similarity::IDENTITY);
+    avatar.meshes[0].target_names[Blendshape::JawOpen.index()] = "mouthWide".into();
+    let error = find_face(&avatar, &face_mask().topology, &rig()).unwrap_err();
+    assert_eq!(
+        error,
+        RegistrationError::MissingFeatureShapes(vec![Blendshape::JawOpen])
+    );
+    assert!(error.to_string().contains("jawOpen"), "{error}");
+}
+
+#[test]
+fn shapes_that_do_not_move_like_a_face_are_a_clear_error() {
+    let (mut avatar, _) = remeshed_mask(Similarity::IDENTITY);
+    // The blinks swapped with the smiles: eyes where the mouth corners are.
+    let names = &mut avatar.meshes[0].target_names;
+    names.swap(
+        Blendshape::EyeBlinkLeft.index(),
+        Blendshape::MouthSmileLeft.index(),
+    );
+    names.swap(
+        Blendshape::EyeBlinkRight.index(),
+        Blendshape::MouthSmileRight.index(),
+    );
+    let error = find_face(&avatar, &face_mask().topology, &rig()).unwrap_err();
+    assert!(
+        matches!(error, RegistrationError::FeaturesNotFaceLike(_)),
+        "{error}"
+    );
+}

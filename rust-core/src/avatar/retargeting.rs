@@ -1,0 +1,245 @@
+//! Automatic retargeting, Eq. (4) of §3.3: each ARKit shape `B_j`, carried
+//! onto the avatar's face by the correspondence map `M`, approximated by a
+//! combination of the avatar's own `k` blendshapes `B̃_i`:
+//!
+//! ```text
+//! E_j(w̃) = ‖Σ_i w̃_i B̃_i − M B_j‖² + μ Σ_i w̃_i²,
+//! (GᵀG + μ₀ diag(GᵀG)) w̃_j = Gᵀ M B_j   (μ below),
+//! ```
+//!
+//! with `G` (3F × k) the avatar targets' displacements at the `F` face
+//! vertices. All 52 right-hand sides share one `k × k` Cholesky
+//! factorization. `M B_j` is the mask's displacement carried into the
+//! avatar's frame by the registration's similarity (`s R δ`, then `M`).
+//!
+//! **μ.** The paper leaves μ open, and one μ for all targets does not
+//! mean the same for a blink (a few lid vertices) and a jaw opening (half
+//! the face): a μ small against the jaw's `‖B̃_i‖²` damps the blink's weight
+//! by several per cent. So the ridge is taken per target, relative to its
+//! own energy, `μ_i = μ₀ ‖B̃_i‖²` (the diagonal of `GᵀG`), with the
+//! dimensionless [`RELATIVE_RIDGE`] μ₀: Eq. (4) on targets normalized to
+//! unit energy. Both terms are then in the same units (the avatar's
+//! length², summed over its face vertices), so μ₀ means the same on a
+//! centimetre and a metre avatar and at any mesh resolution. A target that
+//! reproduces a shape alone gets the weight `1 / (1 + μ₀)`; combinations of
+//! nearly parallel targets, whose least-squares weights would swing to
+//! large opposite values, are held to what their differences can explain.
+//!
+//! `A_j = Σ_i w̃_ji B̃_i` over the whole avatar (eyes, teeth, neck included)
+//! is the automatic retargeting; the weights themselves are a product on
+//! their own (a map from ARKit's 52 weights to the avatar's targets). As
+//! the paper notes, the optimal weights leave [0, 1]; [`Retargeting`]
+//! reports how far.
+
+use super::model::Avatar;
+use super::registration::FaceRegistration;
+use crate::arkit::{BLENDSHAPE_COUNT, Blendshape, Blendshapes};
+use faer::Mat;
+use faer::linalg::solvers::Solve;
+use glam::{DVec3, Vec3};
+use serde::{Deserialize, Serialize};
+
+/// μ₀, the ridge weight of each target relative to its own energy
+/// `‖B̃_i‖²` on the face (module docs).
+pub const RELATIVE_RIDGE: f64 = 1e-3;
+
+/// Why no retargeting could be computed.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum RetargetError {
+    /// The avatar has no morph targets that move its face.
+    #[error(
+        "none of the avatar's {0} morph targets moves its face region: nothing to retarget onto"
+    )]
+    NoFaceTargets(usize),
+    /// The mask shapes do not fit the registration.
+    #[error("the ARKit shapes have {found} vertices, the registered mask {expected}")]
+    MaskSize {
+        /// Vertices of the registered mask.
+        expected: usize,
+        /// Vertices of the shapes given.
+        found: usize,
+    },
+    /// The normal equations could not be factored.
+    #[error("the retargeting system could not be solved")]
+    Singular,
+}
+
+/// One of the avatar's morph targets, as the weights refer to it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TargetRef {
+    /// Index of its mesh in the file.
+    pub mesh: usize,
+    /// The mesh's name, if any.
+    pub mesh_name: Option<String>,
+    /// Index of the target within its mesh.
+    pub index: usize,
+    /// The target's name as read.
+    pub name: String,
+}
+
+/// Eq. (4) solved for all 52 shapes.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Retargeting {
+    /// The avatar's targets, `k` of them, in the order of each row of
+    /// `weights`.
+    pub targets: Vec<TargetRef>,
+    /// `w̃_j` for each ARKit shape `j` in Apple's order: `weights[j][i]` is
+    /// the weight of target `i` that reproduces shape `j`.
+    pub weights: Vec<Vec<f64>>,
+    /// μ₀ (dimensionless; module docs).
+    pub relative_ridge: f64,
+    /// Relative residual `‖G w̃_j − M B_j‖ / ‖M B_j‖` per shape (0 where
+    /// `M B_j` vanishes).
+    pub relative_residual: Vec<f64>,
+}
+
+impl Retargeting {
+    /// The smallest and largest weight over all shapes and targets.
+    pub fn weight_range(&self) -> (f64, f64) {
+        self.weights
+            .iter()
+            .flatten()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), w| {
+                (lo.min(*w), hi.max(*w))
+            })
+    }
+
+    /// How many weights lie outside [0, 1] by more than 0.01.
+    pub fn outside_unit_range(&self) -> usize {
+        self.weights
+            .iter()
+            .flatten()
+            .filter(|w| **w < -0.01 || **w > 1.01)
+            .count()
+    }
+
+    /// `A_j`: the displacement of every avatar vertex (as
+    /// `Avatar::positions`) under ARKit shape `shape`, `Σ_i w̃_ji B̃_i`.
+    pub fn displacement(&self, avatar: &Avatar, shape: Blendshape) -> Vec<Vec3> {
+        let mut out = vec![DVec3::ZERO; avatar.vertex_count()];
+        let Some(row) = self.weights.get(shape.index()) else {
+            return vec![Vec3::ZERO; out.len()];
+        };
+        for (target, w) in self.targets.iter().zip(row) {
+            if *w == 0.0 {
+                continue;
+            }
+            for (o, d) in out
+                .iter_mut()
+                .zip(avatar.target_displacement(target.mesh, target.index))
+            {
+                *o += d.as_dvec3() * *w;
+            }
+        }
+        out.iter().map(|d| d.as_vec3()).collect()
+    }
+}
+
+/// `M B_j` for every ARKit shape: the deltas of `shapes` (mask topology)
+/// carried into the avatar's frame at its face vertices.
+pub fn mapped_shapes(
+    registration: &FaceRegistration,
+    shapes: &Blendshapes,
+) -> Result<Vec<Vec<DVec3>>, RetargetError> {
+    let expected = registration.mask_on_avatar.len();
+    if shapes.vertex_count() != expected {
+        return Err(RetargetError::MaskSize {
+            expected,
+            found: shapes.vertex_count(),
+        });
+    }
+    let s = registration.similarity;
+    Ok(Blendshape::ALL
+        .iter()
+        .map(|b| {
+            let field: Vec<DVec3> = shapes
+                .delta(*b)
+                .iter()
+                .map(|d| s.apply_vector(*d))
+                .collect();
+            registration.map.apply(&field)
+        })
+        .collect())
+}
+
+/// Solves Eq. (4) for all 52 ARKit shapes of `shapes` (module docs).
+pub fn retarget(
+    avatar: &Avatar,
+    registration: &FaceRegistration,
+    shapes: &Blendshapes,
+) -> Result<Retargeting, RetargetError> {
+    let targets: Vec<TargetRef> = avatar
+        .target_ids()
+        .into_iter()
+        .map(|(m, t)| TargetRef {
+            mesh: m,
+            mesh_name: avatar.meshes[m].name.clone(),
+            index: t,
+            name: avatar.meshes[m].target_names[t].clone(),
+        })
+        .collect();
+    let face = &registration.map.face;
+    let rows = 3 * face.len();
+    // G: each target's displacement at the face vertices; targets that do
+    // not move the face get a zero column (and weight 0).
+    let mut g = Mat::<f64>::zeros(rows, targets.len());
+    for (i, target) in targets.iter().enumerate() {
+        let d = avatar.target_displacement(target.mesh, target.index);
+        for (r, f) in face.iter().enumerate() {
+            let v = d.get(f.vertex as usize).copied().unwrap_or(Vec3::ZERO);
+            for axis in 0..3 {
+                g[(3 * r + axis, i)] = f64::from(v[axis]);
+            }
+        }
+    }
+    let gram = g.transpose() * &g;
+    let k = targets.len();
+    let largest = (0..k).map(|i| gram[(i, i)]).fold(0.0, f64::max);
+    if largest <= 0.0 {
+        return Err(RetargetError::NoFaceTargets(k));
+    }
+    let mut system = gram.clone();
+    for i in 0..k {
+        // A target that does not move the face keeps weight 0 (its row is
+        // then `μ_i w_i = 0` with a positive μ_i).
+        let energy = gram[(i, i)];
+        system[(i, i)] += if energy > 0.0 {
+            RELATIVE_RIDGE * energy
+        } else {
+            largest
+        };
+    }
+    let mapped = mapped_shapes(registration, shapes)?;
+    let mut rhs = Mat::<f64>::zeros(rows, BLENDSHAPE_COUNT);
+    for (j, field) in mapped.iter().enumerate() {
+        for (r, d) in field.iter().enumerate() {
+            for axis in 0..3 {
+                rhs[(3 * r + axis, j)] = d[axis];
+            }
+        }
+    }
+    let gt_b = g.transpose() * &rhs;
+    let llt = system
+        .llt(faer::Side::Lower)
+        .map_err(|_| RetargetError::Singular)?;
+    let w = llt.solve(&gt_b);
+    let fitted = &g * &w;
+    let relative_residual = (0..BLENDSHAPE_COUNT)
+        .map(|j| {
+            let (mut err, mut norm) = (0.0, 0.0);
+            for r in 0..rows {
+                err += (fitted[(r, j)] - rhs[(r, j)]).powi(2);
+                norm += rhs[(r, j)].powi(2);
+            }
+            if norm > 0.0 { (err / norm).sqrt() } else { 0.0 }
+        })
+        .collect();
+    Ok(Retargeting {
+        targets,
+        weights: (0..BLENDSHAPE_COUNT)
+            .map(|j| (0..k).map(|i| w[(i, j)]).collect())
+            .collect(),
+        relative_ridge: RELATIVE_RIDGE,
+        relative_residual,
+    })
+}

@@ -252,3 +252,29 @@ fn retargeting_reproduces_the_template_by_its_own_targets_in_any_units() {
         "weights differ by {largest} between metres and centimetres"
     );
 }
+
+/// The registration is kept per avatar: stored, loaded back equal, keyed
+/// by the geometry (another avatar misses), and a damaged file is a miss.
+#[test]
+fn a_registration_is_cached_by_the_avatars_geometry() {
+    use likeness::avatar::registration::cache::{cache_path, load, store};
+    use likeness::avatar::registration::find_face::cache_key;
+    let (avatar, _) = remeshed_mask(Similarity::IDENTITY);
+    let found = find_face(&avatar, &face_mask().topology, &rig()).expect("a face");
+    let dir = std::env::temp_dir().join(format!("likeness-face-cache-{}", std::process::id()));
+    let key = cache_key(&avatar, &rig());
+    store(&dir, &key, &found).expect("stores");
+    assert_eq!(load(&dir, &key).as_ref(), Some(&found));
+    let (moved, _) = remeshed_mask(Similarity {
+        translation: DVec3::X,
+        ..Similarity::IDENTITY
+    });
+    let other = cache_key(&moved, &rig());
+    assert_ne!(other, key);
+    assert_eq!(load(&dir, &other), None);
+    let path = cache_path(&dir, &key);
+    let bytes = std::fs::read(&path).expect("written");
+    std::fs::write(&path, &bytes[..bytes.len() / 2]).expect("truncates");
+    assert_eq!(load(&dir, &key), None);
+    let _ = std::fs::remove_dir_all(&dir);
+}

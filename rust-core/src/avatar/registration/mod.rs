@@ -10,6 +10,8 @@
 //! | §3.3 "non-rigid registration [1]" (Achenbach et al. 2017) | the mask laid onto the avatar's skin | [`nonrigid`] |
 //! | §3.3 "correspondence map M" | avatar face vertices → mask triangle + barycentrics | [`correspondence`] |
 //! | §3.3, once per avatar topology | the whole search, its report and errors, the cache key | [`find_face`] |
+//! | §3.3 "computed only once" | the registration kept in a file per avatar | [`cache`] |
+pub mod cache;
 pub mod correspondence;
 pub mod features;
 pub mod find_face;

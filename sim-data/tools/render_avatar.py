@@ -48,6 +48,8 @@ def render(obj_path, out_dir, pose):
     bpy.ops.wm.obj_import(filepath=obj_path)
     for ob in bpy.context.scene.objects:
         ob.color = COLOURS.get(ob.name, (0.5, 0.5, 0.5, 1))
+        for poly in ob.data.polygons:
+            poly.use_smooth = True
     scene = bpy.context.scene
     scene.render.engine = "BLENDER_WORKBENCH"
     scene.display.shading.light = "STUDIO"

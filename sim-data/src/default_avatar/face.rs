@@ -45,6 +45,9 @@ pub struct FaceRegion {
     pub triangles: Vec<[u32; 3]>,
     /// The outline loop's vertices in order (indices into this region).
     pub rim: Vec<u32>,
+    /// Whether each outline vertex is one of the mask's (else it lies on a
+    /// mask edge between the neighbouring such vertices).
+    pub rim_anchor: Vec<bool>,
 }
 
 /// The mask's boundary loops as vertex lists: left eye, right eye, mouth,
@@ -190,6 +193,7 @@ pub fn face_region() -> FaceRegion {
     let mut uv: Vec<[f64; 2]> = Vec::new();
     let mut on_mask: Vec<MaskPoint> = Vec::new();
     let mut loop_ranges = Vec::new();
+    let mut anchors = Vec::new();
     for l in &loops {
         let start = uv.len();
         for k in 0..l.len() {
@@ -202,6 +206,7 @@ pub fn face_region() -> FaceRegion {
                 if let Some(m) = on_edge(mask, a, b, t) {
                     uv.push([0, 1].map(|d| pa[d] + t * (pb[d] - pa[d])));
                     on_mask.push(m);
+                    anchors.push(s == 0);
                 }
             }
         }
@@ -228,15 +233,17 @@ pub fn face_region() -> FaceRegion {
             }
         }
     }
-    let triangles = triangulate(&uv, &loop_ranges, &in_domain);
+    let triangles = triangulate(&uv, &loop_ranges);
     let positions = on_mask.iter().map(|m| mask_position(mask, m)).collect();
     let rim = loop_ranges[3].clone().map(|i| i as u32).collect();
+    let rim_anchor = anchors[loop_ranges[3].clone()].to_vec();
     FaceRegion {
         uv,
         on_mask,
         positions,
         triangles,
         rim,
+        rim_anchor,
     }
 }
 
@@ -245,13 +252,12 @@ fn dist2(a: [f64; 2], b: [f64; 2]) -> f64 {
 }
 
 /// Constrained Delaunay triangulation of `points` with each range of
-/// `loops` a closed constraint loop; keeps triangles whose centroid is in
-/// the domain, counter-clockwise.
-pub fn triangulate(
-    points: &[[f64; 2]],
-    loops: &[std::ops::Range<usize>],
-    in_domain: &dyn Fn([f64; 2]) -> bool,
-) -> Vec<[u32; 3]> {
+/// `loops` a closed constraint loop; keeps the triangles inside an odd
+/// number of loops (a breadth-first walk from the convex hull counting the
+/// constraint edges crossed), counter-clockwise. The walk, not a test of
+/// each triangle's centroid, decides, so slivers between nearly collinear
+/// loop points fall on the right side.
+pub fn triangulate(points: &[[f64; 2]], loops: &[std::ops::Range<usize>]) -> Vec<[u32; 3]> {
     let mut cdt = ConstrainedDelaunayTriangulation::<Point2<f64>>::new();
     let mut handle_to_index = Vec::new();
     let mut handles = Vec::with_capacity(points.len());
@@ -276,11 +282,36 @@ pub fn triangulate(
             }
         }
     }
+    let mut depth = vec![usize::MAX; cdt.num_all_faces()];
+    let mut queue = std::collections::VecDeque::new();
+    for e in cdt.convex_hull() {
+        if let Some(f) = e.rev().face().as_inner() {
+            let d = usize::from(cdt.is_constraint_edge(e.as_undirected().fix()));
+            if d < depth[f.fix().index()] {
+                depth[f.fix().index()] = d;
+                queue.push_back(f.fix());
+            }
+        }
+    }
+    while let Some(f) = queue.pop_front() {
+        let face = cdt.face(f);
+        let d = depth[f.index()];
+        for e in face.adjacent_edges() {
+            let Some(g) = e.rev().face().as_inner() else {
+                continue;
+            };
+            let next = d + usize::from(cdt.is_constraint_edge(e.as_undirected().fix()));
+            if next < depth[g.fix().index()] {
+                depth[g.fix().index()] = next;
+                queue.push_back(g.fix());
+            }
+        }
+    }
     cdt.inner_faces()
-        .filter_map(|face| {
-            let idx = face.vertices().map(|v| handle_to_index[v.fix().index()]);
-            let c = [0, 1].map(|d| idx.iter().map(|&i| points[i][d]).sum::<f64>() / 3.0);
-            in_domain(c).then(|| idx.map(|i| i as u32))
+        .filter(|f| depth[f.fix().index()] % 2 == 1)
+        .map(|face| {
+            face.vertices()
+                .map(|v| handle_to_index[v.fix().index()] as u32)
         })
         .collect()
 }

@@ -10,9 +10,9 @@
 //! `C + ρ(d) d`, with `ρ` the first crossing of `F` along the ray.
 //!
 //! Near the face the radius is corrected so the head meets the mask's
-//! outline exactly: `ρ(d) += δ(d) · κ(α/α₀)`, where `δ` is the
-//! Gaussian-weighted mismatch `|x_rim − C| − ρ(d_rim)` at the nearby rim
-//! points, `α` the angle to the nearest one, `κ(t) = (1 − t²)³` and `α₀ =`
+//! outline exactly: `ρ(d) += δ(d) · κ(α/α₀)`, where `δ` is Shepard's
+//! interpolation (weights `1/α_k⁴`) of the mismatches `|x_k − o| − ρ(d_k)`
+//! at the rim points, `α` the angle to the nearest one, `κ(t) = (1 − t²)³` and `α₀ =`
 //! [`BLEND_ANGLE`].
 //!
 //! Vertices are laid out on rings about the vertical axis through `C`, from
@@ -176,7 +176,7 @@ impl Rim {
         let (mut sum, mut wsum, mut nearest) = (0.0, 0.0, PI);
         for (rd, m) in self.dirs.iter().zip(&self.mismatch) {
             let a = rd.angle_between(d);
-            let w = (-(a / 0.06).powi(2)).exp() + 1e-300;
+            let w = 1.0 / (a * a + 1e-8).powi(2);
             sum += w * m;
             wsum += w;
             nearest = nearest.min(a);
@@ -194,6 +194,23 @@ pub struct HeadRegion {
     pub triangles: Vec<[u32; 3]>,
     /// Indices (in the same numbering) of the bottom loop, in order.
     pub bottom: Vec<u32>,
+}
+
+/// Stereographic positions of the rim points, those between corners
+/// interpolated linearly (by 3D arc length) between the corners'.
+fn collinear_plane(dirs: &[DVec3], anchor: &[bool]) -> Vec<[f64; 2]> {
+    let n = dirs.len();
+    let mut plane: Vec<[f64; 2]> = dirs.iter().map(|d| stereo(*d)).collect();
+    let corners: Vec<usize> = (0..n).filter(|&k| anchor[k]).collect();
+    for (c, &a) in corners.iter().enumerate() {
+        let b = corners[(c + 1) % corners.len()];
+        let span = (b + n - a) % n;
+        for s in 1..span {
+            let t = s as f64 / span as f64;
+            plane[(a + s) % n] = [0, 1].map(|d| plane[a][d] + t * (plane[b][d] - plane[a][d]));
+        }
+    }
+    plane
 }
 
 /// Angle from the top where the skin reaches [`BOTTOM_Y`] at azimuth `psi`.
@@ -215,7 +232,13 @@ fn bottom_angle(psi: f64) -> f64 {
 }
 
 /// Builds the head around a rim loop (the face region's outline, in order).
-pub fn head_region(rim_points: &[DVec3]) -> HeadRegion {
+///
+/// `anchor[k]` tells whether rim point `k` is a corner of the outline;
+/// points between two corners lie on a straight edge, and their plane
+/// positions are interpolated between the corners' so they stay collinear
+/// in the plane too (else the triangulation fills the slivers between
+/// them with triangles of zero area).
+pub fn head_region(rim_points: &[DVec3], anchor: &[bool]) -> HeadRegion {
     let rim = Rim::new(rim_points);
     let h = HEAD_SPACING;
     let n_az = 180;
@@ -243,7 +266,7 @@ pub fn head_region(rim_points: &[DVec3]) -> HeadRegion {
         .sum::<f64>()
         / 4.0;
     let rings = (length / h).round() as usize;
-    let rim_plane: Vec<[f64; 2]> = rim.dirs.iter().map(|d| stereo(*d)).collect();
+    let rim_plane = collinear_plane(&rim.dirs, anchor);
     let mut plane = rim_plane.clone();
     let mut positions = Vec::new();
     let mut bottom = Vec::new();
@@ -275,9 +298,7 @@ pub fn head_region(rim_points: &[DVec3]) -> HeadRegion {
         }
     }
     let loops = [0..rim_plane.len(), bottom[0] as usize..plane.len()];
-    let bottom_plane = plane[loops[1].clone()].to_vec();
-    let in_domain = |c: [f64; 2]| !inside(&rim_plane, c) && inside(&bottom_plane, c);
-    let mut triangles = triangulate(&plane, &loops, &in_domain);
+    let mut triangles = triangulate(&plane, &loops);
     let all: Vec<DVec3> = rim.points.iter().chain(&positions).copied().collect();
     let outward: f64 = triangles
         .iter()

@@ -184,7 +184,7 @@ fn build_default_avatar() -> DefaultAvatar {
         .iter()
         .map(|&v| face.positions[v as usize])
         .collect();
-    let head = head::head_region(&rim);
+    let head = head::head_region(&rim, &face.rim_anchor);
     let nf = face.positions.len() as u32;
     let nr = rim.len() as u32;
     let remap = |i: u32| {

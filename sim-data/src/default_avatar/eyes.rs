@@ -54,19 +54,20 @@ fn surface_radius(theta: f64) -> f64 {
 }
 
 /// Rings from the front pole to the back pole (front pole excluded).
-const RINGS: usize = 34;
+pub const RINGS: usize = 34;
 /// Vertices per ring.
-const SEGMENTS: usize = 40;
+pub const SEGMENTS: usize = 40;
 
 /// An eyeball mesh centred at `centre`, looking along +z: the front pole,
 /// [`RINGS`] − 1 rings of [`SEGMENTS`] vertices, the back pole. Rings are
-/// twice as dense over the cornea (θ < 30°).
+/// nearly twice as dense at the front as at the back.
 pub fn eyeball(centre: DVec3) -> (Vec<DVec3>, Vec<[u32; 3]>) {
     let thetas: Vec<f64> = (1..RINGS)
         .map(|k| {
             let t = k as f64 / RINGS as f64;
-            // θ(t) with θ'(t) halved near the front: θ = π(t + a sin(πt)...)
-            PI * (t - 0.25 * (PI * t).sin() / PI * 1.2)
+            // θ(t) = π(t − 0.3 sin(πt)/π): θ' = π(1 − 0.3 cos πt), so the
+            // rings are 0.7/1.3 ≈ half as far apart at the front.
+            PI * (t - 0.3 * (PI * t).sin() / PI)
         })
         .collect();
     let mut positions = vec![centre + DVec3::Z * surface_radius(0.0)];

@@ -237,10 +237,10 @@ fn build_default_avatar() -> DefaultAvatar {
     let ear_targets = vec![vec![DVec3::ZERO; ear_mesh.0.len()]; all.len()];
     parts.push(part("ears", 0, 1, &ear_mesh, ear_targets));
     let mut eye_centres = [Vec3::ZERO; 2];
-    for side in 0..2 {
+    for (side, slot) in eye_centres.iter_mut().enumerate() {
         let x = if side == 0 { 1.0 } else { -1.0 } * EYE_CENTRE[0];
         let centre = DVec3::new(x, EYE_CENTRE[1], eye_depth(side, &face, &face_t));
-        eye_centres[side] = centre.as_vec3();
+        *slot = centre.as_vec3();
         let ball = eyes::eyeball(centre);
         let targets = eye_shapes(side)
             .iter()

@@ -81,7 +81,7 @@ fn default_avatar_face_lies_exactly_on_the_mask() {
     let on_vertex = a
         .true_correspondence
         .iter()
-        .filter(|m| m.barycentric.iter().any(|&x| x == 1.0))
+        .filter(|m| m.barycentric.contains(&1.0))
         .count();
     assert!(on_vertex < a.true_correspondence.len() / 10);
 }
@@ -367,4 +367,29 @@ fn default_avatar_tongue_out_leaves_the_mouth_and_cheek_puff_inflates() {
         .map(|(p, d)| d.x * p.x.signum())
         .fold(0.0, f32::max);
     assert!(outward > 0.004, "cheeks move out {outward}");
+}
+
+#[test]
+#[ignore]
+fn default_avatar_profile() {
+    let t = std::time::Instant::now();
+    let _ = face_mask();
+    eprintln!("mask {:?}", t.elapsed());
+    let t = std::time::Instant::now();
+    let f = face::face_region();
+    eprintln!("face {:?}", t.elapsed());
+    let t = std::time::Instant::now();
+    let rim: Vec<DVec3> = f.rim.iter().map(|&v| f.positions[v as usize]).collect();
+    let h = head::head_region(&rim, &f.rim_anchor);
+    eprintln!("head {:?}", t.elapsed());
+    let t = std::time::Instant::now();
+    let _ = crate::template::generic_template();
+    eprintln!("template {:?}", t.elapsed());
+    let t = std::time::Instant::now();
+    let _ = crate::template::generic_model();
+    eprintln!("model {:?}", t.elapsed());
+    let t = std::time::Instant::now();
+    let d = vec![vec![DVec3::ZERO; rim.len()]; 52];
+    let _ = shapes::head_targets(&h.positions, &rim, &d, &vec![0.0; rim.len()]);
+    eprintln!("head targets {:?}", t.elapsed());
 }

@@ -53,8 +53,8 @@ fn ellipsoid(p: DVec3, c: DVec3, r: DVec3) -> f64 {
 ///
 /// Cranium: a 16 cm wide, 19.4 cm long, 23.6 cm tall superellipsoid
 /// (adult head breadth 15–16 cm, length 19–20 cm: Farkas 1994); neck 11 cm
-/// wide, 11 cm deep (adult neck circumference ≈ 36–38 cm); shoulders 38 cm
-/// across.
+/// wide, 11 cm deep (adult neck circumference ≈ 36–38 cm); the shoulders a
+/// dome 34 cm across (steep enough that every ray meets it once).
 pub fn head_field(p: DVec3) -> f64 {
     let (ax, az, ay) = (0.080, 0.097, 0.118);
     let (yc, zc) = (0.02, -0.065);
@@ -72,11 +72,11 @@ pub fn head_field(p: DVec3) -> f64 {
         .max(-0.26 - p.y);
     let shoulders = ellipsoid(
         p,
-        DVec3::new(0.0, -0.235, -0.055),
-        DVec3::new(0.16, 0.07, 0.075),
+        DVec3::new(0.0, -0.29, -0.055),
+        DVec3::new(0.17, 0.14, 0.08),
     );
     let head = smin(cranium, jaw, 0.03);
-    smin(smin(head, neck, 0.025), shoulders, 0.05)
+    smin(smin(head, neck, 0.025), shoulders, 0.08)
 }
 
 /// Where the ray for angle `gamma` starts: [`CENTRE`] for the upper half,

@@ -370,26 +370,25 @@ fn default_avatar_tongue_out_leaves_the_mouth_and_cheek_puff_inflates() {
 }
 
 #[test]
-#[ignore]
-fn default_avatar_profile() {
-    let t = std::time::Instant::now();
-    let _ = face_mask();
-    eprintln!("mask {:?}", t.elapsed());
-    let t = std::time::Instant::now();
-    let f = face::face_region();
-    eprintln!("face {:?}", t.elapsed());
-    let t = std::time::Instant::now();
-    let rim: Vec<DVec3> = f.rim.iter().map(|&v| f.positions[v as usize]).collect();
-    let h = head::head_region(&rim, &f.rim_anchor);
-    eprintln!("head {:?}", t.elapsed());
-    let t = std::time::Instant::now();
-    let _ = crate::template::generic_template();
-    eprintln!("template {:?}", t.elapsed());
-    let t = std::time::Instant::now();
-    let _ = crate::template::generic_model();
-    eprintln!("model {:?}", t.elapsed());
-    let t = std::time::Instant::now();
-    let d = vec![vec![DVec3::ZERO; rim.len()]; 52];
-    let _ = shapes::head_targets(&h.positions, &rim, &d, &vec![0.0; rim.len()]);
-    eprintln!("head targets {:?}", t.elapsed());
+fn default_avatar_head_has_no_folds() {
+    let a = avatar();
+    let skin = &a.avatar.parts[a.skin];
+    let nf = a.true_correspondence.len() as u32;
+    let normal = |t: &[u32; 3]| {
+        let [p, q, r] = t.map(|i| skin.positions[i as usize]);
+        (q - p).cross(r - p).normalize()
+    };
+    let mut edge: BTreeMap<(u32, u32), Vec<usize>> = BTreeMap::new();
+    for (k, t) in skin.triangles.iter().enumerate() {
+        for j in 0..3 {
+            let (x, y) = (t[j], t[(j + 1) % 3]);
+            edge.entry((x.min(y), x.max(y))).or_default().push(k);
+        }
+    }
+    for (e, ts) in &edge {
+        if ts.len() == 2 && (e.0 >= nf || e.1 >= nf) {
+            let c = normal(&skin.triangles[ts[0]]).dot(normal(&skin.triangles[ts[1]]));
+            assert!(c > 0.0, "fold at {:?}", skin.positions[e.0 as usize]);
+        }
+    }
 }

@@ -1,0 +1,114 @@
+//! The eyeballs: a 24 mm sphere with a corneal cap, one separate mesh per
+//! eye, rotated rigidly about its centre by the eyeLook shapes.
+//!
+//! The cornea is the cap of a sphere of radius `R_k = (c² + s²)/(2s)` whose
+//! base circle (diameter `2c` = 11.5 mm) lies on the eyeball and which
+//! bulges `s` = 2.5 mm beyond that base plane (adult corneal diameter
+//! 11.5–12 mm, sagitta ≈ 2.5 mm: Atchison & Smith, *Optics of the Human
+//! Eye*, 2000). Its centre is `k = √(R² − c²) + s − R_k` in front of the eye
+//! centre; along a ray at angle `θ` from the visual axis the surface is at
+//! `r(θ) = max(R, k cos θ + √(R_k² − k² sin² θ))`.
+
+use glam::{DMat3, DVec3};
+use std::f64::consts::{PI, TAU};
+
+/// Eyeball radius (m): the adult globe is about 24 mm across.
+pub const EYE_RADIUS: f64 = 0.012;
+/// Half the corneal diameter (m).
+pub const CORNEA_HALF_WIDTH: f64 = 0.00575;
+/// Corneal sagitta above its base plane (m).
+pub const CORNEA_SAGITTA: f64 = 0.0025;
+/// Horizontal eye rotation of eyeLookIn/Out at weight one (rad): 28°. Eyes
+/// turn up to ~45° but rigs and trackers use the customary gaze range
+/// of 25–30° for a full weight.
+pub const LOOK_HORIZONTAL: f64 = 28.0 * PI / 180.0;
+/// Vertical eye rotation of eyeLookUp/Down at weight one (rad): 22°, the
+/// customary vertical range being smaller (20–25°).
+pub const LOOK_VERTICAL: f64 = 22.0 * PI / 180.0;
+
+/// Radius of the corneal sphere (m).
+pub fn cornea_radius() -> f64 {
+    (CORNEA_HALF_WIDTH.powi(2) + CORNEA_SAGITTA.powi(2)) / (2.0 * CORNEA_SAGITTA)
+}
+
+/// Distance of the corneal sphere's centre in front of the eye centre (m).
+pub fn cornea_offset() -> f64 {
+    (EYE_RADIUS.powi(2) - CORNEA_HALF_WIDTH.powi(2)).sqrt() + CORNEA_SAGITTA - cornea_radius()
+}
+
+/// Signed distance from `p` to an eye at `centre` looking along
+/// `rotation · +z` (negative inside): the union of globe and cornea.
+pub fn eye_distance(p: DVec3, centre: DVec3, rotation: DMat3) -> f64 {
+    let q = rotation.transpose() * (p - centre);
+    let globe = q.length() - EYE_RADIUS;
+    let cornea = (q - DVec3::Z * cornea_offset()).length() - cornea_radius();
+    globe.min(cornea)
+}
+
+/// Distance from the eye centre to the surface along a ray at `theta`
+/// from the visual axis.
+fn surface_radius(theta: f64) -> f64 {
+    let (k, rk) = (cornea_offset(), cornea_radius());
+    let t = k * theta.cos() + (rk * rk - (k * theta.sin()).powi(2)).max(0.0).sqrt();
+    EYE_RADIUS.max(t)
+}
+
+/// Rings from the front pole to the back pole (front pole excluded).
+pub const RINGS: usize = 34;
+/// Vertices per ring.
+pub const SEGMENTS: usize = 40;
+
+/// An eyeball mesh centred at `centre`, looking along +z: the front pole,
+/// [`RINGS`] − 1 rings of [`SEGMENTS`] vertices, the back pole. Rings are
+/// nearly twice as dense at the front as at the back.
+pub fn eyeball(centre: DVec3) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+    let thetas: Vec<f64> = (1..RINGS)
+        .map(|k| {
+            let t = k as f64 / RINGS as f64;
+            // θ(t) = π(t − 0.3 sin(πt)/π): θ' = π(1 − 0.3 cos πt), so the
+            // rings are 0.7/1.3 ≈ half as far apart at the front.
+            PI * (t - 0.3 * (PI * t).sin() / PI)
+        })
+        .collect();
+    let mut positions = vec![centre + DVec3::Z * surface_radius(0.0)];
+    for &theta in &thetas {
+        for j in 0..SEGMENTS {
+            let phi = TAU * j as f64 / SEGMENTS as f64;
+            let d = DVec3::new(
+                theta.sin() * phi.cos(),
+                theta.sin() * phi.sin(),
+                theta.cos(),
+            );
+            positions.push(centre + d * surface_radius(theta));
+        }
+    }
+    positions.push(centre - DVec3::Z * EYE_RADIUS);
+    let ring = |k: usize, j: usize| (1 + k * SEGMENTS + j % SEGMENTS) as u32;
+    let mut triangles = Vec::new();
+    for j in 0..SEGMENTS {
+        triangles.push([0, ring(0, j), ring(0, j + 1)]);
+    }
+    for k in 0..thetas.len() - 1 {
+        for j in 0..SEGMENTS {
+            triangles.push([ring(k, j), ring(k + 1, j), ring(k + 1, j + 1)]);
+            triangles.push([ring(k, j), ring(k + 1, j + 1), ring(k, j + 1)]);
+        }
+    }
+    let back = (positions.len() - 1) as u32;
+    let last = thetas.len() - 1;
+    for j in 0..SEGMENTS {
+        triangles.push([ring(last, j), back, ring(last, j + 1)]);
+    }
+    (positions, triangles)
+}
+
+/// Rotation of the eye on `side` (0 = left, +x) for the gaze shapes:
+/// `look_out`, `look_in`, `look_up`, `look_down` weights. Positive
+/// rotation about +y turns the gaze towards +x; about +x, downwards.
+pub fn gaze_rotation(side: usize, look: [f64; 4]) -> DMat3 {
+    let [out, inward, up, down] = look;
+    let sign = if side == 0 { 1.0 } else { -1.0 };
+    let yaw = sign * (out - inward) * LOOK_HORIZONTAL;
+    let pitch = (down - up) * LOOK_VERTICAL;
+    DMat3::from_rotation_y(yaw) * DMat3::from_rotation_x(pitch)
+}

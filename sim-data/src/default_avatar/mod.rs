@@ -1,0 +1,318 @@
+//! The project's own default avatar, built procedurally: a head with neck
+//! and the top of the shoulders, ears, two eyeballs, teeth with gums and a
+//! tongue, about 20,000 vertices, with its own generic ARKit blendshapes.
+//!
+//! Its face region is the simulator's mask resampled at a finer, different
+//! triangulation, so the true correspondence between avatar and mask is
+//! known exactly ([`DefaultAvatar::true_correspondence`]); registration
+//! tests use it as ground truth.
+//!
+//! | what | where | how |
+//! |---|---|---|
+//! | face skin | [`face`] | mask's parameter plane resampled (1.7 mm hex grid), each vertex at a barycentric point of a mask triangle |
+//! | head, neck, shoulders | [`head`] | star-shaped implicit surface about `head::CENTRE`, rings 4.5 mm apart, joined to the face's outline |
+//! | ears | [`ears`] | pressed ellipsoid shells, roots sunk into the head |
+//! | eyeballs | [`eyes`] | 24 mm globe with an 11.5 mm cornea bulging 2.5 mm, placed as far forward as the lids allow |
+//! | teeth, gums, tongue | [`mouth`] | 14 rounded-box crowns per jaw on a parabolic arch, tube gums, flattened ellipsoid tongue |
+//! | blendshapes | [`shapes`] | template interpolated on the face, continued past the outline; jaw, gaze and tongue motions |
+//!
+//! Coordinates are ARKit's face-anchor space in metres: +x the person's
+//! left, +y up, +z out of the face. Every constant and its source is also
+//! listed in `sim-data/README.md` (section "The default avatar").
+
+pub mod ears;
+pub mod eyes;
+pub mod face;
+pub mod head;
+pub mod mouth;
+pub mod shapes;
+#[cfg(test)]
+mod tests;
+
+use crate::face_mask::{EYE_CENTRE, face_mask};
+use crate::template::{generic_model, generic_template};
+use face::{FaceRegion, MaskPoint, face_region};
+use glam::{DMat3, DVec3, Vec3};
+use likeness::Blendshape;
+use likeness::avatar::model::{Avatar, AvatarMesh, AvatarPart};
+use std::sync::OnceLock;
+
+/// How far the eyeballs stay from every lid and socket vertex, at rest, at
+/// every blink weight and at every gaze (m).
+pub const LID_CLEARANCE: f64 = 0.0004;
+
+/// The default avatar and what is known about it by construction.
+#[derive(Clone, Debug)]
+pub struct DefaultAvatar {
+    /// The avatar: meshes `head` (parts `skin`, `ears`), `eyeLeft`,
+    /// `eyeRight`, `teeth` (`teethUpper`, `teethLower`), `gums`
+    /// (`gumsUpper`, `gumsLower`), `tongue`.
+    pub avatar: Avatar,
+    /// For skin vertex `v < true_correspondence.len()`, the point of the
+    /// mask it lies on (mask triangle and barycentric coordinates). The
+    /// face vertices are the skin's first ones.
+    pub true_correspondence: Vec<MaskPoint>,
+    /// Skin vertices of the face's outline, in order.
+    pub face_outline: Vec<u32>,
+    /// Skin vertices of the cut through neck and shoulders, in order.
+    pub neck_bottom: Vec<u32>,
+    /// Index in `avatar.parts` of the skin.
+    pub skin: usize,
+    /// Index of the ears part.
+    pub ears: usize,
+    /// Indices of the eyeball parts, `[left, right]`.
+    pub eyes: [usize; 2],
+    /// Indices of the teeth parts, `[upper, lower]`.
+    pub teeth: [usize; 2],
+    /// Indices of the gum parts, `[upper, lower]`.
+    pub gums: [usize; 2],
+    /// Index of the tongue part.
+    pub tongue: usize,
+    /// Centres of the eyeballs `[left, right]` (m).
+    pub eye_centres: [Vec3; 2],
+    /// Radius of the eyeballs' globe (m); the cornea reaches
+    /// `eyes::cornea_offset() + eyes::cornea_radius()` from the centre.
+    pub eye_radius: f32,
+}
+
+/// The default avatar, built once per process (deterministic).
+pub fn default_avatar() -> &'static DefaultAvatar {
+    static AVATAR: OnceLock<DefaultAvatar> = OnceLock::new();
+    AVATAR.get_or_init(build_default_avatar)
+}
+
+/// The shapes that move a part, in ARKit's order.
+fn shapes_where(keep: impl Fn(Blendshape) -> bool) -> Vec<Blendshape> {
+    Blendshape::ALL.into_iter().filter(|s| keep(*s)).collect()
+}
+
+fn eye_shapes(side: usize) -> Vec<Blendshape> {
+    let suffix = if side == 0 { "Left" } else { "Right" };
+    shapes_where(|s| s.name().starts_with("eyeLook") && s.name().ends_with(suffix))
+}
+
+/// Gaze rotation of `side` under `shape` at weight one (identity if the
+/// shape is not one of that eye's gaze shapes).
+pub fn shape_rotation(side: usize, shape: Blendshape) -> DMat3 {
+    let name = shape.name();
+    if !eye_shapes(side).contains(&shape) {
+        return DMat3::IDENTITY;
+    }
+    let look = ["Out", "In", "Up", "Down"].map(|d| f64::from(u8::from(name.contains(d))));
+    eyes::gaze_rotation(side, look)
+}
+
+/// The most forward eye depth keeping [`LID_CLEARANCE`] from the skin near
+/// the eye (face vertices within 22 mm) at rest, at blink weights ¼…1, at
+/// full gaze in each direction, and with eyeWide and eyeSquint.
+fn eye_depth(side: usize, face: &FaceRegion, targets: &[Vec<DVec3>]) -> f64 {
+    let c = [
+        if side == 0 { 1.0 } else { -1.0 } * EYE_CENTRE[0],
+        EYE_CENTRE[1],
+    ];
+    let near: Vec<usize> = (0..face.uv.len())
+        .filter(|&v| (face.uv[v][0] - c[0]).hypot(face.uv[v][1] - c[1]) < 0.022)
+        .collect();
+    let sided = |base: &str| {
+        let name = format!("{base}{}", if side == 0 { "Left" } else { "Right" });
+        Blendshape::ALL.into_iter().find(|s| s.name() == name)
+    };
+    let mut configs: Vec<(Option<Blendshape>, f64, DMat3)> = vec![(None, 0.0, DMat3::IDENTITY)];
+    for w in [0.25, 0.5, 0.75, 1.0] {
+        configs.push((sided("eyeBlink"), w, DMat3::IDENTITY));
+    }
+    for s in eye_shapes(side) {
+        configs.push((Some(s), 1.0, shape_rotation(side, s)));
+    }
+    configs.push((sided("eyeWide"), 1.0, DMat3::IDENTITY));
+    configs.push((sided("eyeSquint"), 1.0, DMat3::IDENTITY));
+    let clear = |z: f64| {
+        let centre = DVec3::new(c[0], c[1], z);
+        configs.iter().all(|(shape, w, rot)| {
+            near.iter().all(|&v| {
+                let d = shape.map_or(DVec3::ZERO, |s| *w * targets[s.index()][v]);
+                eyes::eye_distance(face.positions[v] + d, centre, *rot) >= LID_CLEARANCE
+            })
+        })
+    };
+    let (mut lo, mut hi) = (-0.04, 0.03);
+    for _ in 0..40 {
+        let mid = 0.5 * (lo + hi);
+        if clear(mid) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    lo
+}
+
+fn to_f32(v: &[DVec3]) -> Vec<Vec3> {
+    v.iter().map(|p| p.as_vec3()).collect()
+}
+
+fn part(
+    name: &str,
+    mesh: usize,
+    primitive: usize,
+    geometry: &mouth::Mesh,
+    targets: Vec<Vec<DVec3>>,
+) -> AvatarPart {
+    AvatarPart {
+        name: name.to_string(),
+        mesh,
+        primitive,
+        positions: to_f32(&geometry.0),
+        triangles: geometry.1.clone(),
+        targets: targets.iter().map(|t| to_f32(t)).collect(),
+    }
+}
+
+fn mesh(name: &str, shapes: &[Blendshape]) -> AvatarMesh {
+    AvatarMesh {
+        name: Some(name.to_string()),
+        target_names: shapes.iter().map(|s| s.name().to_string()).collect(),
+    }
+}
+
+fn build_default_avatar() -> DefaultAvatar {
+    let mask = face_mask();
+    let tris = mask.topology.triangles();
+    let face = face_region();
+    let rim: Vec<DVec3> = face
+        .rim
+        .iter()
+        .map(|&v| face.positions[v as usize])
+        .collect();
+    let head = head::head_region(&rim, &face.rim_anchor);
+    let nf = face.positions.len() as u32;
+    let nr = rim.len() as u32;
+    let remap = |i: u32| {
+        if i < nr {
+            face.rim[i as usize]
+        } else {
+            nf + i - nr
+        }
+    };
+    let mut skin_p = face.positions.clone();
+    skin_p.extend(&head.positions);
+    let mut skin_t = face.triangles.clone();
+    skin_t.extend(head.triangles.iter().map(|t| t.map(remap)));
+    // Shapes on the skin.
+    let template = generic_template();
+    let face_t = shapes::face_targets(&face.on_mask, &template, tris);
+    let jaw = generic_model().jaw_weights;
+    let rim_jaw: Vec<f64> = face
+        .rim
+        .iter()
+        .map(|&v| {
+            let m = face.on_mask[v as usize];
+            let t = tris[m.triangle as usize];
+            (0..3).map(|k| m.barycentric[k] * jaw[t[k] as usize]).sum()
+        })
+        .collect();
+    let rim_deltas: Vec<Vec<DVec3>> = face_t
+        .iter()
+        .map(|t| face.rim.iter().map(|&v| t[v as usize]).collect())
+        .collect();
+    let head_t = shapes::head_targets(&head.positions, &rim, &rim_deltas, &rim_jaw);
+    let skin_targets: Vec<Vec<DVec3>> = face_t
+        .iter()
+        .zip(&head_t)
+        .map(|(f, h)| f.iter().chain(h).copied().collect())
+        .collect();
+    // Eyes.
+    let all = Blendshape::ALL.to_vec();
+    let mut parts = vec![part("skin", 0, 0, &(skin_p, skin_t), skin_targets)];
+    let ear_mesh = {
+        let mut m: mouth::Mesh = (Vec::new(), Vec::new());
+        for side in 0..2 {
+            let e = ears::ear(side);
+            let o = m.0.len() as u32;
+            m.0.extend(e.0);
+            m.1.extend(e.1.into_iter().map(|t| t.map(|i| i + o)));
+        }
+        m
+    };
+    let ear_targets = vec![vec![DVec3::ZERO; ear_mesh.0.len()]; all.len()];
+    parts.push(part("ears", 0, 1, &ear_mesh, ear_targets));
+    let mut eye_centres = [Vec3::ZERO; 2];
+    for (side, slot) in eye_centres.iter_mut().enumerate() {
+        let x = if side == 0 { 1.0 } else { -1.0 } * EYE_CENTRE[0];
+        let centre = DVec3::new(x, EYE_CENTRE[1], eye_depth(side, &face, &face_t));
+        *slot = centre.as_vec3();
+        let ball = eyes::eyeball(centre);
+        let targets = eye_shapes(side)
+            .iter()
+            .map(|s| shapes::rotate_about(&ball.0, centre, shape_rotation(side, *s)))
+            .collect();
+        let name = if side == 0 { "eyeLeft" } else { "eyeRight" };
+        parts.push(part(name, 1 + side, 0, &ball, targets));
+    }
+    // Mouth.
+    let jaw_shapes = shapes_where(|s| shapes::jaw_motion(s).is_some());
+    for (k, (name, upper)) in [("teethUpper", true), ("teethLower", false)]
+        .into_iter()
+        .enumerate()
+    {
+        let g = mouth::teeth(upper);
+        let t = if upper {
+            vec![vec![DVec3::ZERO; g.0.len()]; jaw_shapes.len()]
+        } else {
+            shapes::jaw_part_targets(&g.0, &jaw_shapes)
+        };
+        parts.push(part(name, 3, k, &g, t));
+    }
+    for (k, (name, upper)) in [("gumsUpper", true), ("gumsLower", false)]
+        .into_iter()
+        .enumerate()
+    {
+        let g = mouth::gums(upper);
+        let t = if upper {
+            vec![vec![DVec3::ZERO; g.0.len()]; jaw_shapes.len()]
+        } else {
+            shapes::jaw_part_targets(&g.0, &jaw_shapes)
+        };
+        parts.push(part(name, 4, k, &g, t));
+    }
+    let tongue_shapes =
+        shapes_where(|s| shapes::jaw_motion(s).is_some() || s == Blendshape::TongueOut);
+    let tg = mouth::tongue();
+    let (back, tip) = (
+        mouth::TONGUE_CENTRE.z - mouth::TONGUE_RADII.z,
+        mouth::TONGUE_CENTRE.z + mouth::TONGUE_RADII.z,
+    );
+    let tongue_t = tongue_shapes
+        .iter()
+        .map(|&s| {
+            if s == Blendshape::TongueOut {
+                shapes::tongue_out(&tg.0, 0.0, back, tip)
+            } else {
+                shapes::jaw_part_targets(&tg.0, &[s]).remove(0)
+            }
+        })
+        .collect();
+    parts.push(part("tongue", 5, 0, &tg, tongue_t));
+    let meshes = vec![
+        mesh("head", &all),
+        mesh("eyeLeft", &eye_shapes(0)),
+        mesh("eyeRight", &eye_shapes(1)),
+        mesh("teeth", &jaw_shapes),
+        mesh("gums", &jaw_shapes),
+        mesh("tongue", &tongue_shapes),
+    ];
+    DefaultAvatar {
+        avatar: Avatar { meshes, parts },
+        true_correspondence: face.on_mask.clone(),
+        face_outline: face.rim.clone(),
+        neck_bottom: head.bottom.iter().map(|&i| remap(i)).collect(),
+        skin: 0,
+        ears: 1,
+        eyes: [2, 3],
+        teeth: [4, 5],
+        gums: [6, 7],
+        tongue: 8,
+        eye_centres,
+        eye_radius: eyes::EYE_RADIUS as f32,
+    }
+}

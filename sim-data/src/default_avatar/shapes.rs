@@ -1,0 +1,181 @@
+//! The default avatar's own 52 ARKit blendshapes, as an artist's rig has
+//! them.
+//!
+//! - **Face region.** Each face vertex lies at barycentric `b` in mask
+//!   triangle `(i, j, k)`; its displacement under shape `s` is
+//!   `Σ b_m (T_s − T₀)_m`, the template's delta interpolated the same way,
+//!   so the avatar's face moves exactly as the template's surface does.
+//! - **Beyond the outline.** A head vertex `p` takes the Gaussian-weighted
+//!   mean (σ = [`SIGMA`], relative to the nearest) of the displacements of
+//!   its [`NEIGHBOURS`] nearest outline vertices, faded by `κ(d/R)`,
+//!   `κ(t) = (1 − t²)³`, with `d` its distance to the outline and `R =`
+//!   [`REACH`]: mouth, cheek and brow shapes carry on smoothly past the
+//!   mask's edge and stop within 3 cm.
+//! - **Jaw.** jawOpen, jawForward, jawLeft, jawRight move the mandible: the
+//!   lower teeth, lower gums and tongue fully, the skin beyond the outline
+//!   by the continued jaw weight `ω` (the template's `jaw_weight` at the
+//!   outline, continued as above with reach [`JAW_REACH`], so the skin under
+//!   the chin and down the neck follows): `δ = ω (M p − p)`, `M` the
+//!   rotation by `JAW_OPEN_ANGLE` about the hinge's x axis or the jaw
+//!   translation of the template.
+//! - **Eyes.** eyeLook* rotate the eyeball on their side rigidly about its
+//!   centre (see [`super::eyes`]).
+//! - **Tongue.** tongueOut slides the tongue forward [`TONGUE_OUT`] (and
+//!   1/8 of that down), the tip fully, the root not at all (smoothstep along
+//!   its length), while narrowing the protruding part by 25%.
+
+use super::face::MaskPoint;
+use crate::regions::{kernel, smoothstep};
+use crate::shape_spec::{HINGE, JAW_OPEN_ANGLE, Special, generic_specs};
+use glam::{DMat3, DVec3};
+use likeness::{Blendshape, Template};
+
+/// How far beyond the outline the face's shapes carry on (m).
+pub const REACH: f64 = 0.025;
+/// How far beyond the outline the mandible's pull carries on (m): down the
+/// neck to about the larynx.
+pub const JAW_REACH: f64 = 0.06;
+/// Outline vertices averaged per head vertex.
+pub const NEIGHBOURS: usize = 8;
+/// Width of the averaging weights (m).
+pub const SIGMA: f64 = 0.006;
+/// How far tongueOut pushes the tongue tip forward (m): 3 cm, the tip
+/// well past the lips.
+pub const TONGUE_OUT: f64 = 0.03;
+
+/// Displacement of each face vertex under each shape: `[shape][vertex]`.
+pub fn face_targets(
+    on_mask: &[MaskPoint],
+    template: &Template,
+    tris: &[[u32; 3]],
+) -> Vec<Vec<DVec3>> {
+    template
+        .shapes
+        .iter()
+        .map(|shape| {
+            on_mask
+                .iter()
+                .map(|m| {
+                    let t = tris[m.triangle as usize];
+                    (0..3)
+                        .map(|k| {
+                            let i = t[k] as usize;
+                            m.barycentric[k] * (shape[i] - template.neutral[i]).as_dvec3()
+                        })
+                        .sum()
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// A head vertex's outline neighbours: `(rim index, weight)` with weights
+/// summing to one, and its distance to the outline.
+pub struct Continuation {
+    /// Neighbours and normalized weights.
+    pub weights: Vec<(usize, f64)>,
+    /// Distance to the nearest outline vertex (m).
+    pub distance: f64,
+}
+
+/// Continuation weights of `p` from the outline points `rim`.
+pub fn continuation(p: DVec3, rim: &[DVec3]) -> Continuation {
+    let mut near: Vec<(usize, f64)> = rim
+        .iter()
+        .enumerate()
+        .map(|(k, r)| (k, r.distance(p)))
+        .collect();
+    near.sort_by(|a, b| a.1.total_cmp(&b.1));
+    near.truncate(NEIGHBOURS);
+    let distance = near.first().map_or(f64::INFINITY, |n| n.1);
+    let mut weights: Vec<(usize, f64)> = near
+        .iter()
+        .map(|(k, d)| (*k, (-((d - distance) / SIGMA).powi(2)).exp()))
+        .collect();
+    let total: f64 = weights.iter().map(|w| w.1).sum();
+    weights.iter_mut().for_each(|w| w.1 /= total);
+    Continuation { weights, distance }
+}
+
+/// How a jaw shape moves a point that follows the mandible fully.
+pub fn jaw_motion(shape: Blendshape) -> Option<Box<dyn Fn(DVec3) -> DVec3>> {
+    let spec = &generic_specs()[shape.index()];
+    match spec.special {
+        Special::JawRotation { .. } => Some(Box::new(|p: DVec3| {
+            DMat3::from_rotation_x(JAW_OPEN_ANGLE) * (p - HINGE) + HINGE - p
+        })),
+        Special::JawTranslation { offset } => Some(Box::new(move |_| offset)),
+        _ => None,
+    }
+}
+
+/// Displacements of the head's own vertices `[shape][vertex]`, continued
+/// from the outline's (`rim_deltas[shape][rim vertex]`) and, for the jaw
+/// shapes, from the outline's jaw weights.
+pub fn head_targets(
+    positions: &[DVec3],
+    rim: &[DVec3],
+    rim_deltas: &[Vec<DVec3>],
+    rim_jaw: &[f64],
+) -> Vec<Vec<DVec3>> {
+    let cont: Vec<Continuation> = positions.iter().map(|p| continuation(*p, rim)).collect();
+    Blendshape::ALL
+        .iter()
+        .map(|&shape| {
+            let motion = jaw_motion(shape);
+            positions
+                .iter()
+                .zip(&cont)
+                .map(|(p, c)| match &motion {
+                    Some(m) => {
+                        let w: f64 = c.weights.iter().map(|(k, w)| w * rim_jaw[*k]).sum();
+                        kernel(c.distance / JAW_REACH) * w * m(*p)
+                    }
+                    None if c.distance < REACH => {
+                        let d: DVec3 = c
+                            .weights
+                            .iter()
+                            .map(|(k, w)| *w * rim_deltas[shape.index()][*k])
+                            .sum();
+                        kernel(c.distance / REACH) * d
+                    }
+                    None => DVec3::ZERO,
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// Displacements of a part that follows the mandible, for `shapes`.
+pub fn jaw_part_targets(positions: &[DVec3], shapes: &[Blendshape]) -> Vec<Vec<DVec3>> {
+    shapes
+        .iter()
+        .map(|&s| match jaw_motion(s) {
+            Some(m) => positions.iter().map(|p| m(*p)).collect(),
+            None => vec![DVec3::ZERO; positions.len()],
+        })
+        .collect()
+}
+
+/// tongueOut on the tongue with the given back and tip depths (z).
+pub fn tongue_out(positions: &[DVec3], centre_x: f64, back: f64, tip: f64) -> Vec<DVec3> {
+    positions
+        .iter()
+        .map(|p| {
+            let s = smoothstep(back, tip, p.z);
+            DVec3::new(
+                -0.25 * s * (p.x - centre_x),
+                -TONGUE_OUT * s / 8.0,
+                TONGUE_OUT * s,
+            )
+        })
+        .collect()
+}
+
+/// Rigid rotation of an eye's vertices about `centre`.
+pub fn rotate_about(positions: &[DVec3], centre: DVec3, rotation: DMat3) -> Vec<DVec3> {
+    positions
+        .iter()
+        .map(|p| rotation * (*p - centre) + centre - *p)
+        .collect()
+}

@@ -1,0 +1,394 @@
+//! Tests of the default avatar: they fail if its geometry, its truth or
+//! its shapes break.
+
+use super::*;
+use crate::face_mask::face_mask;
+use std::collections::{BTreeMap, BTreeSet};
+
+fn avatar() -> &'static DefaultAvatar {
+    default_avatar()
+}
+
+fn target<'a>(part: &'a AvatarPart, mesh: &AvatarMesh, name: &str) -> Option<&'a Vec<Vec3>> {
+    let t = mesh.target_names.iter().position(|n| n == name)?;
+    part.targets.get(t)
+}
+
+fn part_target(a: &DefaultAvatar, part: usize, name: &str) -> Vec<Vec3> {
+    let p = &a.avatar.parts[part];
+    target(p, &a.avatar.meshes[p.mesh], name)
+        .cloned()
+        .unwrap_or_else(|| vec![Vec3::ZERO; p.positions.len()])
+}
+
+#[test]
+fn default_avatar_has_about_twenty_thousand_vertices() {
+    let n = avatar().avatar.vertex_count();
+    assert!((18_000..=23_000).contains(&n), "{n} vertices");
+}
+
+#[test]
+fn default_avatar_triangles_are_valid_and_not_degenerate() {
+    for p in &avatar().avatar.parts {
+        assert!(!p.triangles.is_empty(), "{}", p.name);
+        for t in &p.triangles {
+            assert!(
+                t.iter().all(|&i| (i as usize) < p.positions.len()),
+                "{}",
+                p.name
+            );
+            let [a, b, c] = t.map(|i| p.positions[i as usize]);
+            let longest = (b - a).length().max((c - b).length()).max((a - c).length());
+            let area = 0.5 * (b - a).cross(c - a).length();
+            assert!(area > 1e-3 * longest * longest, "{}: sliver {t:?}", p.name);
+        }
+    }
+}
+
+#[test]
+fn default_avatar_closed_parts_face_outwards() {
+    let a = avatar();
+    let mut closed = vec![a.ears, a.tongue];
+    closed.extend(a.eyes.iter().chain(&a.teeth).chain(&a.gums));
+    for i in closed {
+        let p = &a.avatar.parts[i];
+        // Signed volume by the divergence theorem: Σ a·(b × c) / 6 > 0.
+        let volume: f32 = p
+            .triangles
+            .iter()
+            .map(|t| {
+                let [x, y, z] = t.map(|i| p.positions[i as usize]);
+                x.dot(y.cross(z)) / 6.0
+            })
+            .sum();
+        assert!(volume > 0.0, "{} has volume {volume}", p.name);
+    }
+}
+
+#[test]
+fn default_avatar_face_lies_exactly_on_the_mask() {
+    let a = avatar();
+    let mask = face_mask();
+    let skin = &a.avatar.parts[a.skin];
+    assert!(a.true_correspondence.len() > 5_000);
+    for (v, m) in a.true_correspondence.iter().enumerate() {
+        let b = m.barycentric;
+        assert!(b.iter().all(|&x| x >= 0.0) && (b.iter().sum::<f64>() - 1.0).abs() < 1e-12);
+        let expected = face::mask_position(mask, m).as_vec3();
+        assert!(skin.positions[v].distance(expected) < 1e-6, "vertex {v}");
+    }
+    // It is the avatar's own sampling, not the mask's vertices.
+    let on_vertex = a
+        .true_correspondence
+        .iter()
+        .filter(|m| m.barycentric.contains(&1.0))
+        .count();
+    assert!(on_vertex < a.true_correspondence.len() / 10);
+}
+
+/// Boundary loops of a triangle set: each boundary edge used once.
+fn boundary_loops(triangles: &[[u32; 3]]) -> Vec<Vec<u32>> {
+    let mut count: BTreeMap<(u32, u32), usize> = BTreeMap::new();
+    for t in triangles {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            *count.entry((a.min(b), a.max(b))).or_default() += 1;
+        }
+    }
+    assert!(
+        count.values().all(|&c| c <= 2),
+        "an edge has more than two triangles"
+    );
+    let mut next: BTreeMap<u32, u32> = BTreeMap::new();
+    for t in triangles {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            if count[&(a.min(b), a.max(b))] == 1 {
+                assert!(
+                    next.insert(a, b).is_none(),
+                    "boundary vertex {a} is pinched"
+                );
+            }
+        }
+    }
+    let mut loops = Vec::new();
+    while let Some((&start, _)) = next.iter().next() {
+        let mut l = vec![start];
+        let mut at = next.remove(&start).expect("present");
+        while at != start {
+            l.push(at);
+            at = next.remove(&at).expect("loops close");
+        }
+        loops.push(l);
+    }
+    loops
+}
+
+#[test]
+fn default_avatar_skin_is_one_surface_with_four_openings() {
+    let a = avatar();
+    let skin = &a.avatar.parts[a.skin];
+    let unique: BTreeSet<[u32; 3]> = skin
+        .triangles
+        .iter()
+        .map(|t| {
+            let mut s = *t;
+            s.sort();
+            s
+        })
+        .collect();
+    assert_eq!(unique.len(), skin.triangles.len(), "duplicate triangles");
+    let loops = boundary_loops(&skin.triangles);
+    assert_eq!(
+        loops.len(),
+        4,
+        "eyes, mouth, neck: {:?}",
+        loops.iter().map(Vec::len).collect::<Vec<_>>()
+    );
+    let bottom: BTreeSet<u32> = a.neck_bottom.iter().copied().collect();
+    assert!(
+        loops
+            .iter()
+            .any(|l| l.iter().copied().collect::<BTreeSet<_>>() == bottom)
+    );
+    let nf = a.true_correspondence.len() as u32;
+    assert_eq!(
+        loops.iter().filter(|l| l.iter().all(|&v| v < nf)).count(),
+        3
+    );
+    // Connected: a walk over the triangles reaches every vertex.
+    let mut parent: Vec<u32> = (0..skin.positions.len() as u32).collect();
+    fn find(p: &mut [u32], x: u32) -> u32 {
+        let mut r = x;
+        while p[r as usize] != r {
+            r = p[r as usize];
+        }
+        p[x as usize] = r;
+        r
+    }
+    for t in &skin.triangles {
+        for k in 1..3 {
+            let (x, y) = (find(&mut parent, t[0]), find(&mut parent, t[k]));
+            parent[x as usize] = y;
+        }
+    }
+    let root = find(&mut parent, 0);
+    assert!((0..skin.positions.len() as u32).all(|v| find(&mut parent, v) == root));
+}
+
+#[test]
+fn default_avatar_has_all_52_arkit_targets() {
+    let a = avatar();
+    let names: BTreeSet<&str> = a
+        .avatar
+        .meshes
+        .iter()
+        .flat_map(|m| m.target_names.iter().map(String::as_str))
+        .collect();
+    for s in Blendshape::ALL {
+        assert!(names.contains(s.name()), "{} missing", s.name());
+    }
+    assert_eq!(names.len(), 52);
+    let head = &a.avatar.meshes[0];
+    let expected: Vec<&str> = Blendshape::ALL.iter().map(|s| s.name()).collect();
+    assert_eq!(head.target_names, expected);
+    for p in &a.avatar.parts {
+        assert_eq!(p.targets.len(), a.avatar.meshes[p.mesh].target_names.len());
+        assert!(p.targets.iter().all(|t| t.len() == p.positions.len()));
+    }
+}
+
+#[test]
+fn default_avatar_jaw_open_moves_the_mandible_only() {
+    let a = avatar();
+    let moved = |part: usize| {
+        part_target(a, part, "jawOpen")
+            .iter()
+            .map(|d| d.length())
+            .fold(0.0, f32::max)
+    };
+    let least = |part: usize| {
+        part_target(a, part, "jawOpen")
+            .iter()
+            .map(|d| d.length())
+            .fold(1.0, f32::min)
+    };
+    assert!(least(a.teeth[1]) > 0.005 && least(a.tongue) > 0.005 && least(a.gums[1]) > 0.005);
+    assert_eq!(moved(a.teeth[0]), 0.0);
+    assert_eq!(moved(a.gums[0]), 0.0);
+    let skin = &a.avatar.parts[a.skin];
+    let d = part_target(a, a.skin, "jawOpen");
+    let nf = a.true_correspondence.len();
+    let (mut under_chin, mut top) = (0.0f32, 0.0f32);
+    for (v, p) in skin.positions.iter().enumerate().skip(nf) {
+        if p.y < -0.105 && p.y > -0.13 && p.z > -0.03 {
+            under_chin = under_chin.max(d[v].length());
+        }
+        if p.y > 0.06 {
+            top = top.max(d[v].length());
+        }
+    }
+    assert!(under_chin > 0.01, "under the chin moves {under_chin}");
+    assert_eq!(top, 0.0);
+    // Lower teeth rotate rigidly about the hinge: distances to it kept.
+    let teeth = &a.avatar.parts[a.teeth[1]];
+    let hinge = crate::shape_spec::HINGE.as_vec3();
+    for (p, d) in teeth
+        .positions
+        .iter()
+        .zip(part_target(a, a.teeth[1], "jawOpen"))
+    {
+        assert!(((*p + d).distance(hinge) - p.distance(hinge)).abs() < 1e-6);
+    }
+}
+
+#[test]
+fn default_avatar_eye_look_rotates_one_eyeball_rigidly() {
+    let a = avatar();
+    for (side, name) in [(0, "eyeLookOutLeft"), (1, "eyeLookOutRight")] {
+        let eye = &a.avatar.parts[a.eyes[side]];
+        let d = part_target(a, a.eyes[side], name);
+        let c = a.eye_centres[side];
+        let moved: Vec<Vec3> = eye.positions.iter().zip(&d).map(|(p, d)| *p + *d).collect();
+        for i in (0..eye.positions.len()).step_by(37) {
+            assert!((moved[i].distance(c) - eye.positions[i].distance(c)).abs() < 1e-6);
+            let j = (i * 7 + 11) % eye.positions.len();
+            let before = eye.positions[i].distance(eye.positions[j]);
+            assert!((moved[i].distance(moved[j]) - before).abs() < 1e-6);
+        }
+        // The front pole (vertex 0) turns outwards by the documented angle.
+        let gaze = (moved[0] - c).normalize();
+        let out = if side == 0 { 1.0 } else { -1.0 };
+        assert!(gaze.x * out > 0.0);
+        let angle = gaze.angle_between(Vec3::Z) as f64;
+        assert!((angle - eyes::LOOK_HORIZONTAL).abs() < 1e-4, "{angle}");
+        // Only this eyeball.
+        let other = part_target(a, a.eyes[1 - side], name);
+        assert!(other.iter().all(|d| *d == Vec3::ZERO));
+        assert!(
+            part_target(a, a.skin, name)
+                .iter()
+                .all(|d| d.length() < 0.003)
+        );
+    }
+}
+
+#[test]
+fn default_avatar_blink_closes_over_the_eyeball_without_entering_it() {
+    let a = avatar();
+    let mask = face_mask();
+    let skin = &a.avatar.parts[a.skin];
+    for (side, name) in [(0, "eyeBlinkLeft"), (1, "eyeBlinkRight")] {
+        let d = part_target(a, a.skin, name);
+        let c = a.eye_centres[side].as_dvec3();
+        for w in [0.0, 0.2, 0.4, 0.6, 0.8, 1.0] {
+            for (p, dv) in skin.positions.iter().zip(&d) {
+                let q = (*p + w * *dv).as_dvec3();
+                let dist = eyes::eye_distance(q, c, DMat3::IDENTITY);
+                assert!(
+                    dist > 0.0,
+                    "{name} at {w}: skin {q:?} inside the eye by {dist}"
+                );
+            }
+        }
+        // The lids meet: every upper-lid vertex of the mask lands on its
+        // lower-lid partner, and so do the avatar's lid vertices there.
+        let lm = &mask.landmarks;
+        for (&u, &l) in lm.upper_lid[side].iter().zip(&lm.lower_lid[side]) {
+            let find = |m: u32| {
+                a.true_correspondence
+                    .iter()
+                    .position(|p| {
+                        let t = mask.topology.triangles()[p.triangle as usize];
+                        (0..3).any(|k| t[k] == m && p.barycentric[k] == 1.0)
+                    })
+                    .expect("lid vertices are on the avatar's lid")
+            };
+            let (vu, vl) = (find(u), find(l));
+            let gap = (skin.positions[vu] + d[vu]).distance(skin.positions[vl] + d[vl]);
+            assert!(gap < 1e-6, "lids {gap} apart");
+        }
+    }
+}
+
+#[test]
+fn default_avatar_eyeballs_sit_behind_the_open_lids() {
+    let a = avatar();
+    let skin = &a.avatar.parts[a.skin];
+    for side in 0..2 {
+        let c = a.eye_centres[side].as_dvec3();
+        let nearest = skin
+            .positions
+            .iter()
+            .map(|p| eyes::eye_distance(p.as_dvec3(), c, DMat3::IDENTITY))
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            (LID_CLEARANCE * 0.99..0.002).contains(&nearest),
+            "{nearest}"
+        );
+    }
+}
+
+#[test]
+fn default_avatar_no_shape_moves_the_back_of_the_head() {
+    let a = avatar();
+    for (i, p) in a.avatar.parts.iter().enumerate() {
+        let names = &a.avatar.meshes[p.mesh].target_names;
+        for (t, name) in p.targets.iter().zip(names) {
+            for (x, d) in p.positions.iter().zip(t) {
+                if x.z < -0.09 || (i == a.skin && x.y > 0.09) {
+                    assert_eq!(*d, Vec3::ZERO, "{name} moves {} at {x:?}", p.name);
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn default_avatar_tongue_out_leaves_the_mouth_and_cheek_puff_inflates() {
+    let a = avatar();
+    let tongue = &a.avatar.parts[a.tongue];
+    let d = part_target(a, a.tongue, "tongueOut");
+    let tip = tongue
+        .positions
+        .iter()
+        .zip(&d)
+        .map(|(p, d)| (*p + *d).z)
+        .fold(f32::MIN, f32::max);
+    let lips = face_mask().neutral[face_mask().landmarks.lower_lip[5] as usize].z;
+    assert!(tip > lips, "tongue tip {tip}, lips {lips}");
+    let skin = &a.avatar.parts[a.skin];
+    let puff = part_target(a, a.skin, "cheekPuff");
+    let outward = skin
+        .positions
+        .iter()
+        .zip(&puff)
+        .filter(|(p, _)| p.x.abs() > 0.04 && p.y < -0.02 && p.y > -0.06)
+        .map(|(p, d)| d.x * p.x.signum())
+        .fold(0.0, f32::max);
+    assert!(outward > 0.004, "cheeks move out {outward}");
+}
+
+#[test]
+fn default_avatar_head_has_no_folds() {
+    let a = avatar();
+    let skin = &a.avatar.parts[a.skin];
+    let nf = a.true_correspondence.len() as u32;
+    let normal = |t: &[u32; 3]| {
+        let [p, q, r] = t.map(|i| skin.positions[i as usize]);
+        (q - p).cross(r - p).normalize()
+    };
+    let mut edge: BTreeMap<(u32, u32), Vec<usize>> = BTreeMap::new();
+    for (k, t) in skin.triangles.iter().enumerate() {
+        for j in 0..3 {
+            let (x, y) = (t[j], t[(j + 1) % 3]);
+            edge.entry((x.min(y), x.max(y))).or_default().push(k);
+        }
+    }
+    for (e, ts) in &edge {
+        if ts.len() == 2 && (e.0 >= nf || e.1 >= nf) {
+            let c = normal(&skin.triangles[ts[0]]).dot(normal(&skin.triangles[ts[1]]));
+            assert!(c > 0.0, "fold at {:?}", skin.positions[e.0 as usize]);
+        }
+    }
+}

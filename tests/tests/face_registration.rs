@@ -278,3 +278,158 @@ fn a_registration_is_cached_by_the_avatars_geometry() {
     assert_eq!(load(&dir, &key), None);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The default avatar (about 20k vertices: head, neck, ears, eyeballs,
+/// teeth, tongue) as made, in centimetres Z-up, and under an arbitrary
+/// similarity: the face is found and `M` puts each face vertex within a
+/// stated distance of where it truly is on the mask.
+#[test]
+fn the_default_avatars_face_is_found_where_it_truly_is() {
+    use likeness_sim::default_avatar::default_avatar;
+    let built = default_avatar();
+    let placements = [
+        ("as made (metres, Y-up)", Similarity::IDENTITY),
+        (
+            "centimetres, Z-up",
+            Similarity {
+                scale: 100.0,
+                rotation: DMat3::from_rotation_x(std::f64::consts::FRAC_PI_2),
+                translation: DVec3::new(0.0, 0.0, 150.0),
+            },
+        ),
+        (
+            "an arbitrary similarity",
+            Similarity {
+                scale: 2.7,
+                rotation: DMat3::from_euler(glam::EulerRot::ZYX, -2.2, 0.9, 0.4),
+                translation: DVec3::new(3.0, -7.0, 1.0),
+            },
+        ),
+    ];
+    let rig = rig();
+    let mask = face_mask();
+    for (what, placement) in placements {
+        let mut avatar = built.avatar.clone();
+        for part in &mut avatar.parts {
+            for p in &mut part.positions {
+                *p = placement.apply(p.as_dvec3()).as_vec3();
+            }
+            for t in &mut part.targets {
+                for d in t.iter_mut() {
+                    *d = placement.apply_vector(d.as_dvec3()).as_vec3();
+                }
+            }
+        }
+        let found = find_face(&avatar, &mask.topology, &rig).expect("a face");
+        let offsets = avatar.vertex_offsets();
+        let skin = offsets[built.skin];
+        let truth_on_mask = |v: usize| -> DVec3 {
+            let point = &built.true_correspondence[v - skin];
+            let t = mask.topology.triangles()[point.triangle as usize];
+            (0..3)
+                .map(|k| rig.neutral()[t[k] as usize] * point.barycentric[k])
+                .sum()
+        };
+        let on_mask = found.map.apply(rig.neutral());
+        let errors: Vec<f64> = found
+            .map
+            .face
+            .iter()
+            .zip(&on_mask)
+            .filter(|(f, _)| {
+                (skin..skin + built.true_correspondence.len()).contains(&(f.vertex as usize))
+            })
+            .map(|(f, p)| (*p - truth_on_mask(f.vertex as usize)).length() * 1000.0)
+            .collect();
+        let mean = errors.iter().sum::<f64>() / errors.len() as f64;
+        let max = errors.iter().copied().fold(0.0, f64::max);
+        let covered = errors.len() as f64 / built.true_correspondence.len() as f64;
+        let outside = found.map.face.len() - errors.len();
+        eprintln!(
+            "{what}: {} face vertices ({:.1}% of the true face, {outside} beyond it), map error mean {mean:.3} max {max:.3} mm, residual mean {:.3} max {:.3} mm, {} ICP iterations, {:.2} s",
+            found.map.face.len(),
+            100.0 * covered,
+            found.residual_mean_mm,
+            found.residual_max_mm,
+            found.icp_iterations,
+            found.seconds
+        );
+        assert!(
+            (found.similarity.scale / placement.scale - 1.0).abs() < 0.01,
+            "{what}"
+        );
+        // What M leaves out of the true face lies on the mask's boundary
+        // (lid and lip rows, the outline: 5.3% of the face vertices, all
+        // within 0.01 mm of it), where the boundary rule ends the face
+        // region.
+        let boundary: Vec<(DVec3, DVec3)> =
+            likeness::avatar::registration::correspondence::boundary_edges(
+                mask.topology.triangles(),
+            )
+            .into_iter()
+            .map(|(a, b)| (rig.neutral()[a as usize], rig.neutral()[b as usize]))
+            .collect();
+        let to_segment = |p: DVec3, (a, b): (DVec3, DVec3)| {
+            let t = ((p - a).dot(b - a) / (b - a).length_squared()).clamp(0.0, 1.0);
+            (a + (b - a) * t - p).length()
+        };
+        let in_map: std::collections::HashSet<u32> =
+            found.map.face.iter().map(|f| f.vertex).collect();
+        let farthest_left_out = (skin..skin + built.true_correspondence.len())
+            .filter(|v| !in_map.contains(&(*v as u32)))
+            .map(|v| {
+                let p = truth_on_mask(v);
+                boundary
+                    .iter()
+                    .map(|e| to_segment(p, *e))
+                    .fold(f64::INFINITY, f64::min)
+                    * 1000.0
+            })
+            .fold(0.0, f64::max);
+        eprintln!("{what}: left out up to {farthest_left_out:.2} mm from the mask's boundary");
+        assert!(covered > 0.9, "{what}: only {covered} of the face covered");
+        assert!(
+            farthest_left_out < 0.05,
+            "{what}: a face vertex {farthest_left_out} mm inside the mask left out"
+        );
+        assert!(
+            mean < 0.2 && max < 1.0,
+            "{what}: map error mean {mean} max {max} mm"
+        );
+        assert_eq!(found.eyeball_parts, built.eyes.to_vec(), "{what}");
+    }
+}
+
+/// Eq. (4) on the default avatar with the generic template as `B_j`: the
+/// avatar's own targets (the template interpolated on its face, continued
+/// past the mask) reproduce `M T_j`.
+#[test]
+fn retargeting_the_template_onto_the_default_avatar_reproduces_it() {
+    use likeness::avatar::retargeting::retarget;
+    use likeness_sim::default_avatar::default_avatar;
+    let built = default_avatar();
+    let rig = rig();
+    let found = find_face(&built.avatar, &face_mask().topology, &rig).expect("a face");
+    let started = std::time::Instant::now();
+    let retargeting = retarget(&built.avatar, &found, &rig).expect("solves");
+    let seconds = started.elapsed().as_secs_f64();
+    let worst = retargeting
+        .relative_residual
+        .iter()
+        .copied()
+        .fold(0.0, f64::max);
+    let (lo, hi) = retargeting.weight_range();
+    eprintln!(
+        "Eq. (4) for 52 shapes on {} face vertices, {} targets: {:.1} ms; worst relative residual {worst:.4}; weights {lo:.3}..{hi:.3}, {} outside [0, 1]",
+        found.map.face.len(),
+        retargeting.targets.len(),
+        seconds * 1e3,
+        retargeting.outside_unit_range()
+    );
+    for shape in Blendshape::ALL {
+        let r = retargeting.relative_residual[shape.index()];
+        if r > 0.01 {
+            eprintln!("{shape}: {r:.4}");
+        }
+    }
+}

@@ -7,8 +7,9 @@
 //! (GᵀG + μ₀ diag(GᵀG)) w̃_j = Gᵀ M B_j   (μ below),
 //! ```
 //!
-//! with `G` (3F × k) the avatar targets' displacements at the `F` face
-//! vertices. All 52 right-hand sides share one `k × k` Cholesky
+//! with `G` (3F × k) the displacements of the avatar's `k` blendshapes (its
+//! morph targets grouped by name across meshes, [`avatar_blendshapes`]) at
+//! the `F` face vertices. All 52 right-hand sides share one `k × k` Cholesky
 //! factorization. `M B_j` is the mask's displacement carried into the
 //! avatar's frame by the registration's similarity (`s R δ`, then `M`).
 //!
@@ -64,25 +65,41 @@ pub enum RetargetError {
     Singular,
 }
 
-/// One of the avatar's morph targets, as the weights refer to it.
+/// One of the avatar's blendshapes as the weights refer to it: every morph
+/// target of that name, on whichever meshes have it (engines drive the
+/// targets of one name together: jawOpen on the head, the teeth and the
+/// tongue is one blendshape).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct TargetRef {
-    /// Index of its mesh in the file.
-    pub mesh: usize,
-    /// The mesh's name, if any.
-    pub mesh_name: Option<String>,
-    /// Index of the target within its mesh.
-    pub index: usize,
-    /// The target's name as read.
+pub struct AvatarBlendshape {
+    /// The targets' name as read.
     pub name: String,
+    /// Its targets, `(mesh, index within the mesh)`.
+    pub targets: Vec<(usize, usize)>,
+}
+
+/// The avatar's blendshapes: its morph targets grouped by name, in the
+/// order each name first appears.
+pub fn avatar_blendshapes(avatar: &Avatar) -> Vec<AvatarBlendshape> {
+    let mut out: Vec<AvatarBlendshape> = Vec::new();
+    for (m, t) in avatar.target_ids() {
+        let name = &avatar.meshes[m].target_names[t];
+        match out.iter_mut().find(|b| &b.name == name) {
+            Some(b) => b.targets.push((m, t)),
+            None => out.push(AvatarBlendshape {
+                name: name.clone(),
+                targets: vec![(m, t)],
+            }),
+        }
+    }
+    out
 }
 
 /// Eq. (4) solved for all 52 shapes.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Retargeting {
-    /// The avatar's targets, `k` of them, in the order of each row of
+    /// The avatar's blendshapes, `k` of them, in the order of each row of
     /// `weights`.
-    pub targets: Vec<TargetRef>,
+    pub targets: Vec<AvatarBlendshape>,
     /// `w̃_j` for each ARKit shape `j` in Apple's order: `weights[j][i]` is
     /// the weight of target `i` that reproduces shape `j`.
     pub weights: Vec<Vec<f64>>,
@@ -120,15 +137,14 @@ impl Retargeting {
         let Some(row) = self.weights.get(shape.index()) else {
             return vec![Vec3::ZERO; out.len()];
         };
-        for (target, w) in self.targets.iter().zip(row) {
+        for (blendshape, w) in self.targets.iter().zip(row) {
             if *w == 0.0 {
                 continue;
             }
-            for (o, d) in out
-                .iter_mut()
-                .zip(avatar.target_displacement(target.mesh, target.index))
-            {
-                *o += d.as_dvec3() * *w;
+            for &(m, t) in &blendshape.targets {
+                for (o, d) in out.iter_mut().zip(avatar.target_displacement(m, t)) {
+                    *o += d.as_dvec3() * *w;
+                }
             }
         }
         out.iter().map(|d| d.as_vec3()).collect()
@@ -168,23 +184,19 @@ pub fn retarget(
     registration: &FaceRegistration,
     shapes: &Blendshapes,
 ) -> Result<Retargeting, RetargetError> {
-    let targets: Vec<TargetRef> = avatar
-        .target_ids()
-        .into_iter()
-        .map(|(m, t)| TargetRef {
-            mesh: m,
-            mesh_name: avatar.meshes[m].name.clone(),
-            index: t,
-            name: avatar.meshes[m].target_names[t].clone(),
-        })
-        .collect();
+    let targets = avatar_blendshapes(avatar);
     let face = &registration.map.face;
     let rows = 3 * face.len();
     // G: each target's displacement at the face vertices; targets that do
     // not move the face get a zero column (and weight 0).
     let mut g = Mat::<f64>::zeros(rows, targets.len());
-    for (i, target) in targets.iter().enumerate() {
-        let d = avatar.target_displacement(target.mesh, target.index);
+    for (i, blendshape) in targets.iter().enumerate() {
+        let mut d = vec![Vec3::ZERO; avatar.vertex_count()];
+        for &(m, t) in &blendshape.targets {
+            for (o, x) in d.iter_mut().zip(avatar.target_displacement(m, t)) {
+                *o += x;
+            }
+        }
         for (r, f) in face.iter().enumerate() {
             let v = d.get(f.vertex as usize).copied().unwrap_or(Vec3::ZERO);
             for axis in 0..3 {

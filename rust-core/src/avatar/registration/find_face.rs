@@ -9,7 +9,10 @@
 //! The avatar's eyeballs are left out of the surface the mask is fitted
 //! to (the mask's lids would otherwise find the eyeball behind them): a
 //! part is an eyeball when some eyeLook shape moves at least
-//! [`EYEBALL_SHARE`] of its vertices.
+//! [`EYEBALL_SHARE`] of its vertices. The face region is then taken only
+//! from the parts the registered mask lies on (at least [`FACE_PART_SHARE`]
+//! of its vertices closest to them): teeth and gums a millimetre behind
+//! the lips are within reach of the mask but are not the face.
 
 use super::correspondence::{CorrespondenceMap, correspondence_map};
 use super::features::{REQUIRED, rig_features};
@@ -28,6 +31,10 @@ use std::time::Instant;
 /// Share of a part's vertices an eyeLook shape must move for the part to
 /// count as an eyeball.
 pub const EYEBALL_SHARE: f64 = 0.9;
+
+/// Share of the registered mask's vertices that must lie closest to a part
+/// for the part to hold face region.
+pub const FACE_PART_SHARE: f64 = 0.05;
 
 /// A vertex of the avatar belongs to the face region when the registered
 /// mask passes within this distance of it (mm of the mask's scale, so the
@@ -85,6 +92,8 @@ pub struct FaceRegistration {
     pub icp_iterations: usize,
     /// Parts taken for eyeballs (indices into `Avatar::parts`).
     pub eyeball_parts: Vec<usize>,
+    /// Parts the face region was taken from.
+    pub face_parts: Vec<usize>,
     /// Time the registration took (s).
     pub seconds: f64,
 }
@@ -117,16 +126,20 @@ pub fn find_face(
     let positions: Vec<DVec3> = avatar.positions().iter().map(|p| p.as_dvec3()).collect();
     let offsets = avatar.vertex_offsets();
     let eyeball_parts = eyeball_parts(avatar, &offsets);
-    let skin_triangles: Vec<[u32; 3]> = avatar
-        .parts
-        .iter()
-        .enumerate()
-        .filter(|(i, _)| !eyeball_parts.contains(i))
-        .flat_map(|(i, p)| {
-            let o = offsets[i] as u32;
-            p.triangles.iter().map(move |t| t.map(|v| v + o))
-        })
-        .collect();
+    let mut skin_triangles: Vec<[u32; 3]> = Vec::new();
+    let mut part_of_triangle: Vec<usize> = Vec::new();
+    for (i, part) in avatar.parts.iter().enumerate() {
+        if eyeball_parts.contains(&i) {
+            continue;
+        }
+        let o = offsets[i] as u32;
+        for t in &part.triangles {
+            if t.iter().all(|&v| (v as usize) < part.positions.len()) {
+                skin_triangles.push(t.map(|v| v + o));
+                part_of_triangle.push(i);
+            }
+        }
+    }
     let skin = TriangleGrid::new(&positions, &skin_triangles);
 
     // Features, then the similarity they imply.
@@ -182,11 +195,23 @@ pub fn find_face(
         });
     }
 
+    let mut hits = vec![0usize; avatar.parts.len()];
+    for p in &registered.positions {
+        if let Some(c) = skin.closest(*p)
+            && let Some(&part) = part_of_triangle.get(c.triangle)
+        {
+            hits[part] += 1;
+        }
+    }
+    let needed = FACE_PART_SHARE * registered.positions.len() as f64;
+    let face_parts: Vec<usize> = (0..avatar.parts.len())
+        .filter(|&i| hits[i] as f64 >= needed)
+        .collect();
     let candidates = avatar
         .parts
         .iter()
         .enumerate()
-        .filter(|(i, _)| !eyeball_parts.contains(i))
+        .filter(|(i, _)| face_parts.contains(i))
         .flat_map(|(i, part)| {
             (offsets[i]..offsets[i] + part.positions.len()).map(|v| (v, positions[v]))
         });
@@ -205,6 +230,7 @@ pub fn find_face(
         residual_max_mm,
         icp_iterations: icp.iterations,
         eyeball_parts,
+        face_parts,
         seconds: started.elapsed().as_secs_f64(),
     })
 }

@@ -435,7 +435,13 @@ fn retargeting_the_template_onto_the_default_avatar_reproduces_it() {
     let jaw = retargeting.displacement(&built.avatar, Blendshape::JawOpen);
     let offsets = built.avatar.vertex_offsets();
     let lower = built.teeth[1];
-    let own = &built.avatar.parts[lower].targets[Blendshape::JawOpen.index()];
+    let part = &built.avatar.parts[lower];
+    let index = built.avatar.meshes[part.mesh]
+        .target_names
+        .iter()
+        .position(|n| n == "jawOpen")
+        .expect("the teeth follow jawOpen");
+    let own = &part.targets[index];
     let worst = jaw[offsets[lower]..offsets[lower + 1]]
         .iter()
         .zip(own)

@@ -5,7 +5,9 @@
 //! |---|---|---|
 //! | §3.3 "the provided full-body avatar" | meshes in world space, their morph targets | [`model`] |
 //! | §3.3 "the avatar's blendshapes" | target names to ARKit's 52, split halves | [`target_names`] |
+//! | (glTF 2.0, not in the paper) | glTF / GLB read, written back with new targets, written new | [`glb`] |
 
+pub mod glb;
 pub mod model;
 pub mod target_names;
 

@@ -6,8 +6,10 @@
 //! A target moving `k` of `n` vertices costs `12 n` bytes dense and
 //! `pad₄(k · s) + 12 k` sparse, `s` the size of the smallest unsigned type
 //! that holds `n − 1` (1, 2 or 4 bytes): a shape that moves a tenth of a
-//! body is about 8 times smaller sparse. A target that moves nothing has
-//! neither view nor sparse part: the spec reads such an accessor as zeros.
+//! body is about 8 times smaller sparse. A target that moves nothing is
+//! sparse with one zero entry (16 bytes): the spec would also take an
+//! accessor with neither view nor sparse part as zeros, but common readers
+//! (the `gltf` crate among them) reject that.
 //! `POSITION` accessors carry exact `min` / `max` (the spec requires them;
 //! an `f32` widened to `f64` prints as a decimal that reads back to the same
 //! `f32`).
@@ -140,18 +142,20 @@ impl Builder {
     /// moves, sparse when that is smaller (unless `encoding` says dense),
     /// dense otherwise.
     pub fn target(&mut self, d: &[Vec3], name: &str, encoding: TargetEncoding) -> usize {
-        let moved: Vec<u32> = (0..d.len() as u32)
+        let mut moved: Vec<u32> = (0..d.len() as u32)
             .filter(|&i| d[i as usize] != Vec3::ZERO)
             .collect();
         let (min, max) = bounds(d);
         let mut a = json!({
-            "name": name, "componentType": FLOAT, "count": d.len(), "type": "VEC3",
+            "componentType": FLOAT, "count": d.len(), "type": "VEC3",
             "min": vec3_json(min), "max": vec3_json(max),
         });
-        if moved.is_empty() {
-            return self.accessor(a);
+        if !name.is_empty() {
+            a["name"] = json!(name);
         }
-        if encoding == TargetEncoding::Dense || !sparse_is_smaller(d.len(), moved.len()) {
+        if moved.is_empty() && !d.is_empty() {
+            moved.push(0); // one zero entry: sparse needs at least one
+        } else if encoding == TargetEncoding::Dense || !sparse_is_smaller(d.len(), moved.len()) {
             let bytes: Vec<u8> = d
                 .iter()
                 .flat_map(|v| v.to_array())
@@ -203,13 +207,14 @@ mod tests {
     }
 
     #[test]
-    fn still_targets_have_no_data_and_zero_bounds() {
+    fn still_targets_are_one_zero_entry_with_zero_bounds() {
         let mut b = Builder::new();
-        let a = b.target(&[Vec3::ZERO; 5], "jawOpen", TargetEncoding::Smallest);
+        let a = b.target(&[Vec3::ZERO; 5], "jawOpen", TargetEncoding::Dense);
         let acc = &b.accessors[a];
-        assert!(acc.get("bufferView").is_none() && acc.get("sparse").is_none());
+        assert!(acc.get("bufferView").is_none());
+        assert_eq!(acc["sparse"]["count"], json!(1));
         assert_eq!(acc["min"], json!([0.0, 0.0, 0.0]));
-        assert!(b.bin.is_empty());
+        assert_eq!(b.bin.len(), 16);
     }
 
     #[test]

@@ -26,6 +26,9 @@ pub mod write_new;
 
 pub use error::GlbError;
 pub use read::{GlbAvatar, check_avatar, read_avatar, read_avatar_bytes};
+#[cfg(test)]
+mod tests;
+
 pub use encode::TargetEncoding;
 pub use scene::Placement;
 pub use write_back::{NewShapes, write_avatar, written_back_glb};

@@ -97,8 +97,12 @@ fn assert_clean(reports: &[Value]) {
         let issues = &r["issues"];
         eprintln!(
             "{} (validator {}): {} errors, {} warnings, {} infos, {} hints",
-            r["file"], r["validatorVersion"], issues["numErrors"], issues["numWarnings"],
-            issues["numInfos"], issues["numHints"]
+            r["file"],
+            r["validatorVersion"],
+            issues["numErrors"],
+            issues["numWarnings"],
+            issues["numInfos"],
+            issues["numHints"]
         );
         for m in issues["messages"].as_array().unwrap() {
             eprintln!("{}: {m}", r["file"]);
@@ -114,7 +118,15 @@ fn written_glbs_pass_the_khronos_validator() {
     let dir = temp_dir();
     let looks = vec![MeshLook::SKIN, MeshLook::TOOTH];
     let new = dir.join("new.glb");
-    write_new_avatar(&avatar(), &NewGlbOptions { looks, ..Default::default() }, &new).unwrap();
+    write_new_avatar(
+        &avatar(),
+        &NewGlbOptions {
+            looks,
+            ..Default::default()
+        },
+        &new,
+    )
+    .unwrap();
 
     // The new file as a .gltf beside its .bin, its node moved, rotated and
     // scaled, then read and written back with new shapes.
@@ -135,16 +147,35 @@ fn written_glbs_pass_the_khronos_validator() {
             .avatar
             .parts
             .iter()
-            .map(|p| p.positions.iter().enumerate().map(|(v, &x)| f(v, x)).collect())
+            .map(|p| {
+                p.positions
+                    .iter()
+                    .enumerate()
+                    .map(|(v, &x)| f(v, x))
+                    .collect()
+            })
             .collect()
     };
-    shapes.set(Blendshape::JawOpen, per_part(&|_, x| Vec3::new(0.0, -0.01 * x.x, 0.0)));
-    shapes.set(Blendshape::EyeBlinkLeft, per_part(&|v, _| {
-        if v % 17 == 0 { Vec3::Y * 0.003 } else { Vec3::ZERO }
-    }));
-    shapes.set(Blendshape::CheekPuff, per_part(&|v, _| {
-        if v < 40 { Vec3::Z * 0.002 } else { Vec3::ZERO }
-    }));
+    shapes.set(
+        Blendshape::JawOpen,
+        per_part(&|_, x| Vec3::new(0.0, -0.01 * x.x, 0.0)),
+    );
+    shapes.set(
+        Blendshape::EyeBlinkLeft,
+        per_part(&|v, _| {
+            if v % 17 == 0 {
+                Vec3::Y * 0.003
+            } else {
+                Vec3::ZERO
+            }
+        }),
+    );
+    shapes.set(
+        Blendshape::CheekPuff,
+        per_part(&|v, _| {
+            if v < 40 { Vec3::Z * 0.002 } else { Vec3::ZERO }
+        }),
+    );
     let back = dir.join("back.glb");
     write_avatar(&moved, &shapes, &back).unwrap();
     let reread = read_avatar(&back).unwrap();

@@ -216,7 +216,10 @@ mod tests {
     fn base64_decodes_with_and_without_padding() {
         assert_eq!(decode_base64("aGVsbG8=").as_deref(), Some(&b"hello"[..]));
         assert_eq!(decode_base64("aGVsbG8").as_deref(), Some(&b"hello"[..]));
-        assert_eq!(decode_base64("AAECAw==").as_deref(), Some(&[0, 1, 2, 3][..]));
+        assert_eq!(
+            decode_base64("AAECAw==").as_deref(),
+            Some(&[0, 1, 2, 3][..])
+        );
         assert!(decode_base64("a$b").is_none());
     }
 

@@ -169,7 +169,12 @@ impl Builder {
         let mut vals = Vec::with_capacity(moved.len() * 12);
         for &i in &moved {
             push_index(&mut ix, i, size);
-            vals.extend(d[i as usize].to_array().into_iter().flat_map(f32::to_le_bytes));
+            vals.extend(
+                d[i as usize]
+                    .to_array()
+                    .into_iter()
+                    .flat_map(f32::to_le_bytes),
+            );
         }
         let ix_view = self.view(&ix, None);
         let vals_view = self.view(&vals, None);

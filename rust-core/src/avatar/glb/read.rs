@@ -20,7 +20,7 @@
 use super::accessor::Source;
 use super::scene::{Placement, placements};
 use super::{GlbError, container};
-use crate::avatar::{Avatar, AvatarMesh, AvatarPart, ArkitTargets, target_names::arkit_targets};
+use crate::avatar::{ArkitTargets, Avatar, AvatarMesh, AvatarPart, target_names::arkit_targets};
 use glam::Vec3;
 use std::path::{Path, PathBuf};
 
@@ -74,7 +74,8 @@ fn read(bytes: &[u8], file: &Path, folder: Option<&Path>) -> Result<GlbAvatar, G
     let parts = container::split(bytes, file)?;
     let json: serde_json::Value =
         serde_json::from_slice(parts.json).map_err(|e| invalid(e.to_string()))?;
-    let root = gltf::json::deserialize::from_slice(parts.json).map_err(|e| invalid(e.to_string()))?;
+    let root =
+        gltf::json::deserialize::from_slice(parts.json).map_err(|e| invalid(e.to_string()))?;
     let document = gltf::Document::from_json(root).map_err(|e| match e {
         gltf::Error::Validation(list) => invalid(
             list.iter()
@@ -154,7 +155,10 @@ fn check_target_counts(mesh: &gltf::Mesh, file: &Path) -> Result<(), GlbError> {
 }
 
 fn target_names(mesh: &gltf::Mesh, json: &serde_json::Value) -> Vec<String> {
-    let count = mesh.primitives().next().map_or(0, |p| p.morph_targets().len());
+    let count = mesh
+        .primitives()
+        .next()
+        .map_or(0, |p| p.morph_targets().len());
     let m = &json["meshes"][mesh.index()];
     let from_extras = |extras: &serde_json::Value, t: usize| {
         extras["targetNames"][t].as_str().map(str::to_string)
@@ -205,7 +209,10 @@ fn read_part(
         None => (0..n as u32).collect(),
     };
     if indices.len() % 3 != 0 {
-        return Err(prim_err(&format!("{} indices, not a multiple of 3", indices.len())));
+        return Err(prim_err(&format!(
+            "{} indices, not a multiple of 3",
+            indices.len()
+        )));
     }
     let mut triangles = Vec::with_capacity(indices.len() / 3);
     for (k, t) in indices.chunks_exact(3).enumerate() {

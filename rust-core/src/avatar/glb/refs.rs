@@ -17,7 +17,14 @@ const ACCESSOR_REFS: &[&[&str]] = &[
     &["skins", "*", "inverseBindMatrices"],
     &["animations", "*", "samplers", "*", "input"],
     &["animations", "*", "samplers", "*", "output"],
-    &["nodes", "*", "extensions", "EXT_mesh_gpu_instancing", "attributes", "*"],
+    &[
+        "nodes",
+        "*",
+        "extensions",
+        "EXT_mesh_gpu_instancing",
+        "attributes",
+        "*",
+    ],
 ];
 
 const VIEW_REFS: &[&[&str]] = &[
@@ -25,7 +32,15 @@ const VIEW_REFS: &[&[&str]] = &[
     &["accessors", "*", "sparse", "indices", "bufferView"],
     &["accessors", "*", "sparse", "values", "bufferView"],
     &["images", "*", "bufferView"],
-    &["meshes", "*", "primitives", "*", "extensions", "KHR_draco_mesh_compression", "bufferView"],
+    &[
+        "meshes",
+        "*",
+        "primitives",
+        "*",
+        "extensions",
+        "KHR_draco_mesh_compression",
+        "bufferView",
+    ],
 ];
 
 /// What is referred to.
@@ -114,7 +129,10 @@ mod tests {
         let map = compacting(&[false, true, false, false]);
         renumber(&mut doc, Kind::Accessor, &map);
         assert_eq!(doc["meshes"][0]["primitives"][0]["indices"], json!(2));
-        assert_eq!(doc["meshes"][0]["primitives"][0]["targets"][0]["POSITION"], json!(1));
+        assert_eq!(
+            doc["meshes"][0]["primitives"][0]["targets"][0]["POSITION"],
+            json!(1)
+        );
         assert_eq!(doc["skins"][0]["inverseBindMatrices"], json!(2));
     }
 }

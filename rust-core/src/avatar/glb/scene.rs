@@ -75,7 +75,10 @@ pub(crate) fn placements(
     document: &gltf::Document,
     source: &Source,
 ) -> Result<Vec<Placement>, GlbError> {
-    let Some(scene) = document.default_scene().or_else(|| document.scenes().next()) else {
+    let Some(scene) = document
+        .default_scene()
+        .or_else(|| document.scenes().next())
+    else {
         return Ok(Vec::new());
     };
     let worlds = world_transforms(document);

@@ -22,7 +22,12 @@ const JAW: [Vec3; 3] = [
     Vec3::new(3.0, 0.0, 0.0),
     Vec3::new(2.0, 1.0, 0.0),
 ];
-const TARGET_NAMES: [&str; 4] = ["EyeBlinkLeft", "browInnerUp_L", "browInnerUp_R", "Fcl_custom"];
+const TARGET_NAMES: [&str; 4] = [
+    "EyeBlinkLeft",
+    "browInnerUp_L",
+    "browInnerUp_R",
+    "Fcl_custom",
+];
 
 /// Local displacement of target `t` on a primitive of `n` vertices.
 fn local_target(t: usize, n: usize) -> Vec<Vec3> {
@@ -131,7 +136,13 @@ fn new_shapes(g: &GlbAvatar) -> NewShapes {
             .map(|(i, p)| {
                 let n = p.positions.len();
                 (0..n)
-                    .map(|v| if i == k && v == 1 { Vec3::new(scale, 0.0, -scale) } else { Vec3::ZERO })
+                    .map(|v| {
+                        if i == k && v == 1 {
+                            Vec3::new(scale, 0.0, -scale)
+                        } else {
+                            Vec3::ZERO
+                        }
+                    })
                     .collect()
             })
             .collect()
@@ -203,7 +214,8 @@ fn strip_targets(v: &mut Value) {
 fn write_back_replaces_arkit_targets_and_keeps_the_rest() {
     let g = read_fixture();
     let shapes = new_shapes(&g);
-    let bytes = written_back_glb(&g, &shapes, TargetEncoding::Smallest, Path::new("o.glb")).unwrap();
+    let bytes =
+        written_back_glb(&g, &shapes, TargetEncoding::Smallest, Path::new("o.glb")).unwrap();
     let back = read_avatar_bytes(&bytes, "o.glb").unwrap();
     assert_eq!(untouched_part(&back), untouched_part(&g));
     let names = &back.avatar.meshes[0].target_names;
@@ -226,24 +238,45 @@ fn write_back_replaces_arkit_targets_and_keeps_the_rest() {
             assert!(part.targets[t].iter().zip(want).all(|(a, b)| close(*a, *b)));
         }
     }
-    assert_eq!(back.avatar.parts[0].targets[2], g.avatar.parts[0].targets[3]);
-    assert!(close(back.avatar.parts[2].targets[0][1], Vec3::new(0.4, 0.0, -0.4)));
+    assert_eq!(
+        back.avatar.parts[0].targets[2],
+        g.avatar.parts[0].targets[3]
+    );
+    assert!(close(
+        back.avatar.parts[2].targets[0][1],
+        Vec3::new(0.4, 0.0, -0.4)
+    ));
     // Written in the head's own space: inverse of its linear part.
     let local = &back.json()["meshes"][0]["primitives"][0]["targets"][0]["POSITION"];
     let a = &back.json()["accessors"][local.as_u64().unwrap() as usize];
-    let want = head_world().inverse().transform_vector3(Vec3::new(0.3, 0.0, -0.3));
+    let want = head_world()
+        .inverse()
+        .transform_vector3(Vec3::new(0.3, 0.0, -0.3));
     let max = a["max"].as_array().unwrap();
     assert!((max[0].as_f64().unwrap() as f32 - want.x.max(0.0)).abs() < 1e-6);
-    assert!(a.get("sparse").is_some(), "one moving vertex of four is sparse");
+    assert!(
+        a.get("sparse").is_some(),
+        "one moving vertex of four is sparse"
+    );
     // No accessor or view left unused.
     let n = back.json()["accessors"].as_array().unwrap().len();
-    assert!(super::refs::used(back.json(), super::refs::Kind::Accessor, n).iter().all(|&u| u));
+    assert!(
+        super::refs::used(back.json(), super::refs::Kind::Accessor, n)
+            .iter()
+            .all(|&u| u)
+    );
 }
 
 #[test]
 fn writing_back_nothing_keeps_data_and_spells_names() {
     let g = read_fixture();
-    let bytes = written_back_glb(&g, &NewShapes::new(), TargetEncoding::Smallest, Path::new("o.glb")).unwrap();
+    let bytes = written_back_glb(
+        &g,
+        &NewShapes::new(),
+        TargetEncoding::Smallest,
+        Path::new("o.glb"),
+    )
+    .unwrap();
     let back = read_avatar_bytes(&bytes, "o.glb").unwrap();
     assert_eq!(back.avatar.parts, {
         let mut a = g.avatar.parts.clone();
@@ -257,14 +290,33 @@ fn writing_back_nothing_keeps_data_and_spells_names() {
 #[test]
 fn sparse_when_smaller_dense_otherwise_both_exact() {
     let n = 300;
-    let positions: Vec<Vec3> = (0..n).map(|i| Vec3::new(i as f32, (i % 7) as f32, 0.0)).collect();
+    let positions: Vec<Vec3> = (0..n)
+        .map(|i| Vec3::new(i as f32, (i % 7) as f32, 0.0))
+        .collect();
     let triangles: Vec<[u32; 3]> = (0..n as u32 - 2).map(|i| [i, i + 1, i + 2]).collect();
-    let few: Vec<Vec3> = (0..n).map(|i| if i % 50 == 3 { Vec3::new(0.1, -0.2, 1e-7) } else { Vec3::ZERO }).collect();
-    let all: Vec<Vec3> = (0..n).map(|i| Vec3::new(i as f32 * 1e-3, 0.5, -0.25)).collect();
+    let few: Vec<Vec3> = (0..n)
+        .map(|i| {
+            if i % 50 == 3 {
+                Vec3::new(0.1, -0.2, 1e-7)
+            } else {
+                Vec3::ZERO
+            }
+        })
+        .collect();
+    let all: Vec<Vec3> = (0..n)
+        .map(|i| Vec3::new(i as f32 * 1e-3, 0.5, -0.25))
+        .collect();
     let avatar = Avatar {
-        meshes: vec![AvatarMesh { name: Some("m".into()), target_names: vec!["JawOpen".into(), "mouthClose".into()] }],
+        meshes: vec![AvatarMesh {
+            name: Some("m".into()),
+            target_names: vec!["JawOpen".into(), "mouthClose".into()],
+        }],
         parts: vec![AvatarPart {
-            name: "m".into(), mesh: 0, primitive: 0, positions, triangles,
+            name: "m".into(),
+            mesh: 0,
+            primitive: 0,
+            positions,
+            triangles,
             targets: vec![few.clone(), all.clone()],
         }],
     };
@@ -272,15 +324,32 @@ fn sparse_when_smaller_dense_otherwise_both_exact() {
     let back = read_avatar_bytes(&bytes, "n.glb").unwrap();
     let acc = &back.json()["accessors"];
     let t = &back.json()["meshes"][0]["primitives"][0]["targets"];
-    assert!(acc[t[0]["POSITION"].as_u64().unwrap() as usize].get("sparse").is_some());
-    assert!(acc[t[1]["POSITION"].as_u64().unwrap() as usize].get("sparse").is_none());
+    assert!(
+        acc[t[0]["POSITION"].as_u64().unwrap() as usize]
+            .get("sparse")
+            .is_some()
+    );
+    assert!(
+        acc[t[1]["POSITION"].as_u64().unwrap() as usize]
+            .get("sparse")
+            .is_none()
+    );
     assert_eq!(back.avatar.parts[0].targets, [few, all]);
-    assert_eq!(back.avatar.meshes[0].target_names, ["jawOpen", "mouthClose"]);
+    assert_eq!(
+        back.avatar.meshes[0].target_names,
+        ["jawOpen", "mouthClose"]
+    );
     assert_eq!(back.avatar.parts[0].positions, avatar.parts[0].positions);
-    let dense = NewGlbOptions { encoding: TargetEncoding::Dense, ..Default::default() };
+    let dense = NewGlbOptions {
+        encoding: TargetEncoding::Dense,
+        ..Default::default()
+    };
     let bigger = new_avatar_glb(&avatar, &dense, Path::new("d.glb")).unwrap();
     assert!(bigger.len() > bytes.len());
-    assert_eq!(read_avatar_bytes(&bigger, "d.glb").unwrap().avatar.parts[0].targets, avatar.parts[0].targets);
+    assert_eq!(
+        read_avatar_bytes(&bigger, "d.glb").unwrap().avatar.parts[0].targets,
+        avatar.parts[0].targets
+    );
 }
 
 /// Reads a modified fixture, expecting an error.
@@ -307,15 +376,39 @@ fn every_broken_file_gives_its_typed_error() {
     assert!(matches!(e, GlbError::Truncated { .. }), "{e}");
     let mut bad = good.clone();
     bad[0] = b'x';
-    assert!(matches!(read_avatar_bytes(&bad, "m.glb"), Err(GlbError::NotGltf { .. })));
+    assert!(matches!(
+        read_avatar_bytes(&bad, "m.glb"),
+        Err(GlbError::NotGltf { .. })
+    ));
     let e = error_of(|d, _| d["accessors"][8]["count"] = json!(1_000_000_000u64));
     assert!(matches!(e, GlbError::Accessor { accessor: 8, .. }), "{e}");
     let e = error_of(|d, b| {
-        let at = offset_of(d, d["meshes"][0]["primitives"][0]["attributes"]["POSITION"].as_u64().unwrap() as usize);
+        let at = offset_of(
+            d,
+            d["meshes"][0]["primitives"][0]["attributes"]["POSITION"]
+                .as_u64()
+                .unwrap() as usize,
+        );
         b[at + 16..at + 20].copy_from_slice(&f32::NAN.to_le_bytes());
     });
-    assert!(matches!(e, GlbError::NotFinite { mesh: 0, primitive: 0, vertex: 1, .. }), "{e}");
-    let index_at = |d: &Value| offset_of(d, d["meshes"][0]["primitives"][0]["indices"].as_u64().unwrap() as usize);
+    assert!(
+        matches!(
+            e,
+            GlbError::NotFinite {
+                mesh: 0,
+                primitive: 0,
+                vertex: 1,
+                ..
+            }
+        ),
+        "{e}"
+    );
+    let index_at = |d: &Value| {
+        offset_of(
+            d,
+            d["meshes"][0]["primitives"][0]["indices"].as_u64().unwrap() as usize,
+        )
+    };
     let e = error_of(|d, b| {
         let at = index_at(d);
         b[at + 2..at + 4].copy_from_slice(&9u16.to_le_bytes());
@@ -327,9 +420,24 @@ fn every_broken_file_gives_its_typed_error() {
     });
     assert!(matches!(e, GlbError::Triangle { triangle: 1, .. }), "{e}");
     let e = error_of(|d, _| {
-        d["meshes"][0]["primitives"][1]["targets"].as_array_mut().unwrap().pop();
+        d["meshes"][0]["primitives"][1]["targets"]
+            .as_array_mut()
+            .unwrap()
+            .pop();
     });
-    assert!(matches!(e, GlbError::TargetCount { mesh: 0, primitive: 1, expected: 4, found: 3, .. }), "{e}");
+    assert!(
+        matches!(
+            e,
+            GlbError::TargetCount {
+                mesh: 0,
+                primitive: 1,
+                expected: 4,
+                found: 3,
+                ..
+            }
+        ),
+        "{e}"
+    );
     let e = error_of(|d, _| d["meshes"][1]["primitives"][0]["mode"] = json!(1));
     assert!(matches!(e, GlbError::Primitive { mesh: 1, .. }), "{e}");
     let e = error_of(|d, _| d["scenes"][0]["nodes"] = json!([]));
@@ -345,12 +453,18 @@ fn check_avatar_wants_targets_with_arkit_names() {
     let (mut doc, bin) = fixture();
     doc["meshes"][0]["extras"]["targetNames"] = json!(["a", "b", "c", "d"]);
     let g = read_avatar_bytes(&glb(&doc, &bin), "x.glb").unwrap();
-    assert!(matches!(check_avatar(&g), Err(GlbError::NoArkitTargets { .. })));
+    assert!(matches!(
+        check_avatar(&g),
+        Err(GlbError::NoArkitTargets { .. })
+    ));
     let teeth_only = json!({ "asset": { "version": "2.0" }, "scenes": [{ "nodes": [0] }],
         "nodes": [{ "mesh": 0 }], "meshes": [doc["meshes"][1].clone()],
         "accessors": doc["accessors"], "bufferViews": doc["bufferViews"], "buffers": doc["buffers"] });
     let g = read_avatar_bytes(&glb(&teeth_only, &bin), "t.glb").unwrap();
-    assert!(matches!(check_avatar(&g), Err(GlbError::NoMorphTargets { .. })));
+    assert!(matches!(
+        check_avatar(&g),
+        Err(GlbError::NoMorphTargets { .. })
+    ));
 }
 
 #[test]
@@ -358,10 +472,15 @@ fn names_fall_back_to_primitive_extras_then_accessor_names() {
     let (mut doc, bin) = fixture();
     doc["meshes"][0]["extras"] = json!({});
     doc["meshes"][0]["primitives"][0]["extras"] = json!({ "targetNames": ["jawOpen"] });
-    let a = doc["meshes"][0]["primitives"][0]["targets"][1]["POSITION"].as_u64().unwrap() as usize;
+    let a = doc["meshes"][0]["primitives"][0]["targets"][1]["POSITION"]
+        .as_u64()
+        .unwrap() as usize;
     doc["accessors"][a]["name"] = json!("cheekPuff");
     let g = read_avatar_bytes(&glb(&doc, &bin), "x.glb").unwrap();
-    assert_eq!(g.avatar.meshes[0].target_names, ["jawOpen", "cheekPuff", "target 2", "target 3"]);
+    assert_eq!(
+        g.avatar.meshes[0].target_names,
+        ["jawOpen", "cheekPuff", "target 2", "target 3"]
+    );
 }
 
 #[test]
@@ -377,6 +496,9 @@ fn gltf_with_a_data_uri_and_a_bin_file_beside_it() {
     assert_eq!(from_file.avatar, read_fixture().avatar);
     let out = dir.join("out.glb");
     write_avatar(&from_file, &new_shapes(&from_file), &out).unwrap();
-    assert_eq!(read_avatar(&out).unwrap().avatar.meshes[1].target_names, ["jawOpen"]);
+    assert_eq!(
+        read_avatar(&out).unwrap().avatar.meshes[1].target_names,
+        ["jawOpen"]
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }

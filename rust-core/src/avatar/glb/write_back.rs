@@ -119,11 +119,13 @@ pub fn written_back_glb(
             )));
         }
         let names: Vec<String> = plan.iter().map(|p| p.name.clone()).collect();
-        let primitives = doc["meshes"][m]["primitives"].as_array().map_or(0, Vec::len);
+        let primitives = doc["meshes"][m]["primitives"]
+            .as_array()
+            .map_or(0, Vec::len);
         for p in 0..primitives {
-            let Some(k) = (0..avatar.avatar.parts.len())
-                .find(|&k| avatar.avatar.parts[k].mesh == m && avatar.avatar.parts[k].primitive == p)
-            else {
+            let Some(k) = (0..avatar.avatar.parts.len()).find(|&k| {
+                avatar.avatar.parts[k].mesh == m && avatar.avatar.parts[k].primitive == p
+            }) else {
                 return Err(err(format!("mesh {m} primitive {p}: not read")));
             };
             let inverse = avatar.placements[k].linear().inverse();
@@ -281,7 +283,11 @@ fn follow_weights(object: &mut Value, plan: &[Planned]) {
     };
     let new: Vec<Value> = plan
         .iter()
-        .map(|p| p.from.and_then(|t| old.get(t).cloned()).unwrap_or(json!(0.0)))
+        .map(|p| {
+            p.from
+                .and_then(|t| old.get(t).cloned())
+                .unwrap_or(json!(0.0))
+        })
         .collect();
     object["weights"] = Value::Array(new);
 }

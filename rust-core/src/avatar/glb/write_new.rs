@@ -202,7 +202,11 @@ fn check(avatar: &Avatar, file: &Path) -> Result<(), GlbError> {
         if let Some(v) = part.positions.iter().position(|p| !p.is_finite()) {
             return err(format!("part {k} vertex {v}: position not finite"));
         }
-        if let Some(t) = part.triangles.iter().position(|t| t.iter().any(|&i| i as usize >= n)) {
+        if let Some(t) = part
+            .triangles
+            .iter()
+            .position(|t| t.iter().any(|&i| i as usize >= n))
+        {
             return err(format!("part {k} triangle {t}: index past {n} vertices"));
         }
         if part.targets.len() != mesh.target_names.len() {

@@ -1,11 +1,11 @@
-//! Accessor data (glTF 2.0 spec §3.6.2), read with every length checked
+//! Accessor data (glTF 2.0 spec, "Accessors"), read with every length checked
 //! first.
 //!
 //! An accessor's element `i` starts in its buffer at
 //! `view.byteOffset + accessor.byteOffset + i · stride`, where `stride` is
 //! the view's `byteStride` or else the element's size; without a
 //! `bufferView` every element is zero.
-//! A sparse accessor (§3.6.2.3) then overwrites `sparse.count` elements: the
+//! A sparse accessor ("Sparse Accessors") then overwrites `sparse.count` elements: the
 //! element numbers (strictly increasing, unsigned 8/16/32-bit) and their
 //! values lie tightly packed in two views of their own.
 //!

@@ -1,5 +1,5 @@
-//! The GLB container (glTF 2.0 spec §4.4) and where a buffer's bytes come
-//! from (§3.6.1.2: the GLB `BIN` chunk, a `data:` URI, or a file beside the
+//! The GLB container (glTF 2.0 spec, "GLB File Format Specification") and
+//! where a buffer's bytes come from ("Buffers and Buffer Views": the GLB `BIN` chunk, a `data:` URI, or a file beside the
 //! `.gltf`).
 //!
 //! A GLB is a 12-byte header (`magic` = `glTF`, `version` = 2, `length` =
@@ -87,7 +87,7 @@ pub(crate) fn split<'a>(bytes: &'a [u8], file: &Path) -> Result<Container<'a>, G
             CHUNK_JSON | CHUNK_BIN => {
                 return Err(malformed(format!("unexpected chunk at byte {at}")));
             }
-            _ => {} // unknown chunk types are skipped (§4.4.3.1)
+            _ => {} // unknown chunk types are skipped (as the spec asks)
         }
         at = end.next_multiple_of(4);
     }
@@ -161,7 +161,7 @@ pub(crate) fn load_buffers(
     Ok(out)
 }
 
-/// A relative URI (percent-encoded, §3.6.1.2) as a path in `folder`.
+/// A relative URI (percent-encoded) as a path in `folder`.
 fn external_path(uri: &str, folder: Option<&Path>) -> Option<PathBuf> {
     if uri.contains(':') || uri.starts_with('/') {
         return None; // another scheme, or absolute: not a file beside this one

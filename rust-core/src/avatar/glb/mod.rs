@@ -2,16 +2,16 @@
 //! [`Avatar`](crate::avatar::Avatar) in world space, written back with new
 //! ARKit morph targets, or written new.
 //!
-//! | spec (glTF 2.0) | what | file |
+//! | glTF 2.0 spec section | what | file |
 //! |---|---|---|
-//! | §4.4 GLB, §3.6.1 buffers | the GLB container, `data:` URIs and `.bin` files | [`container`] |
-//! | §3.6.2 accessors, sparse | accessor data, lengths checked before use | [`accessor`] |
-//! | §3.5 nodes, §3.7.3 skins | where the scene places each mesh | [`scene`] |
-//! | §3.7.2 meshes, morph targets | reading an avatar, checking it has ARKit's names | [`read`] |
-//! | §3.6.2, §3.7.2.2 | accessors and views as written, dense or sparse | [`encode`] |
-//! | | where accessors and views are referred to, renumbering | [`refs`] |
-//! | §3.7.2.2 morph targets | writing a read file back with new targets | [`write_back`] |
-//! | §3.7.2, §3.9 materials | writing an avatar as a new GLB | [`write_new`] |
+//! | GLB File Format; Buffers and Buffer Views | the GLB container, `data:` URIs and `.bin` files | `container.rs` |
+//! | Accessors; Sparse Accessors | accessor data, lengths checked before use | `accessor.rs` |
+//! | Nodes and Hierarchy; Transformations; Skins | where the scene places each mesh | [`scene`] |
+//! | Meshes; Morph Targets | reading an avatar, checking it has ARKit's names | [`read`] |
+//! | Accessors; Data Alignment; Accessor Bounds | accessors and views as written, dense or sparse | [`encode`] |
+//! | | where accessors and views are referred to, renumbering | `refs.rs` |
+//! | Morph Targets | writing a read file back with new targets | [`write_back`] |
+//! | Meshes; Materials | writing an avatar as a new GLB | [`write_new`] |
 //! | | the one error type | [`error`] |
 
 mod accessor;

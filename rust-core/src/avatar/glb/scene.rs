@@ -1,4 +1,5 @@
-//! Where the default scene places each mesh (glTF 2.0 spec §3.5).
+//! Where the default scene places each mesh (glTF 2.0 spec, "Nodes and Hierarchy",
+//! "Transformations").
 //!
 //! A node's local transform is its `matrix` (column-major) or `T · R · S`
 //! from `translation`, `rotation` (a unit quaternion x, y, z, w) and
@@ -7,7 +8,7 @@
 //! target's) only through its linear part, and back to the mesh's own
 //! space through that part's inverse.
 //!
-//! A skinned mesh ignores its node's transform (§3.7.3.3): its vertices are
+//! A skinned mesh ignores its node's transform (spec, "Skins"): its vertices are
 //! placed by the joints, `Σ wⱼ · Gⱼ · IBMⱼ · v` (`Gⱼ` the joint's world
 //! transform, `IBMⱼ` its inverse bind matrix). In the pose the file was
 //! exported in, every `Gⱼ · IBMⱼ` is the same matrix (the identity when the

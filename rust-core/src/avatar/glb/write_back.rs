@@ -25,7 +25,7 @@
 //! The file is always written as GLB with one buffer: every buffer view
 //! still referred to is copied (4-byte aligned) from whichever buffer held
 //! it, then the new views follow. Accessors and views only the replaced
-//! targets used are dropped and the rest renumbered ([`refs`](super::refs)).
+//! targets used are dropped and the rest renumbered (`refs.rs`).
 //! Everything outside `accessors`, `bufferViews`, `buffers` and the
 //! targets, weights and target names of meshes is left as it was.
 

@@ -43,30 +43,37 @@ fn local(node: &gltf::Node) -> Mat4 {
     Mat4::from_cols_array_2d(&node.transform().matrix())
 }
 
-/// Every node's world transform (a node outside the hierarchy, or in a
-/// cycle, gets its local transform on top of whatever ancestors were
-/// reached before the cycle).
+/// Every node's world transform, each computed once from its parent's (a
+/// node with two parents, which the spec forbids, takes the first; a cycle
+/// is cut where it closes).
 fn world_transforms(document: &gltf::Document) -> Vec<Mat4> {
-    let n = document.nodes().len();
-    let mut parent = vec![None; n];
-    for node in document.nodes() {
+    let nodes: Vec<gltf::Node> = document.nodes().collect();
+    let mut parent = vec![None; nodes.len()];
+    for node in &nodes {
         for child in node.children() {
             parent[child.index()].get_or_insert(node.index());
         }
     }
-    let nodes: Vec<gltf::Node> = document.nodes().collect();
-    (0..n)
-        .map(|i| {
-            let mut m = local(&nodes[i]);
-            let mut at = parent[i];
-            // At most n ancestors: a cycle cannot loop for ever.
-            for _ in 0..n {
-                let Some(p) = at else { break };
-                m = local(&nodes[p]) * m;
-                at = parent[p];
-            }
-            m
-        })
+    let mut world: Vec<Option<Mat4>> = vec![None; nodes.len()];
+    let mut on_path = vec![false; nodes.len()];
+    for start in 0..nodes.len() {
+        // Walk up to a known ancestor (or the root), then back down.
+        let mut path = Vec::new();
+        let mut at = Some(start);
+        while let Some(i) = at.filter(|&i| world[i].is_none() && !on_path[i]) {
+            on_path[i] = true;
+            path.push(i);
+            at = parent[i];
+        }
+        let mut m = at.and_then(|i| world[i]).unwrap_or(Mat4::IDENTITY);
+        for &i in path.iter().rev() {
+            m *= local(&nodes[i]);
+            world[i] = Some(m);
+        }
+    }
+    world
+        .into_iter()
+        .map(|m| m.unwrap_or(Mat4::IDENTITY))
         .collect()
 }
 

@@ -502,3 +502,43 @@ fn gltf_with_a_data_uri_and_a_bin_file_beside_it() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn a_skinned_mesh_is_placed_by_its_bind_pose_not_its_node() {
+    let (mut doc, mut bin) = fixture();
+    // Joint at y = 1 with an inverse bind matrix of y − 0.5: bind placement
+    // is y + 0.5, whatever the skinned node's own matrix (y − 1) says.
+    let ibm = Mat4::from_translation(Vec3::new(0.0, -0.5, 0.0));
+    bin.resize(bin.len().next_multiple_of(4), 0);
+    let at = bin.len();
+    bin.extend(ibm.to_cols_array().iter().flat_map(|x| x.to_le_bytes()));
+    doc["buffers"][0]["byteLength"] = json!(bin.len());
+    let views = doc["bufferViews"].as_array_mut().unwrap();
+    views.push(json!({ "buffer": 0, "byteOffset": at, "byteLength": 64 }));
+    let view = views.len() - 1;
+    let accessors = doc["accessors"].as_array_mut().unwrap();
+    accessors
+        .push(json!({ "bufferView": view, "componentType": 5126, "count": 1, "type": "MAT4" }));
+    let ibm_accessor = accessors.len() - 1;
+    doc["nodes"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!({ "name": "Jaw", "translation": [0.0, 1.0, 0.0] }));
+    doc["scenes"][0]["nodes"] = json!([0, 2, 3]);
+    doc["nodes"][2]["skin"] = json!(0);
+    doc["skins"] = json!([{ "joints": [3], "inverseBindMatrices": ibm_accessor }]);
+    let g = read_avatar_bytes(&glb(&doc, &bin), "skinned.glb").unwrap();
+    assert!(close(
+        g.avatar.parts[2].positions[0],
+        Vec3::new(2.0, 0.5, 0.0)
+    ));
+    assert_eq!(g.placements[2].node, 2);
+}
+
+#[test]
+fn a_cycle_in_the_hierarchy_does_not_hang() {
+    let (mut doc, bin) = fixture();
+    doc["nodes"][1]["children"] = json!([0]);
+    // Either a validation error or a read; neither loops.
+    let _ = read_avatar_bytes(&glb(&doc, &bin), "cycle.glb");
+}

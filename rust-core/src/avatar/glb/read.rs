@@ -14,6 +14,10 @@
 //!   primitive's `extras.targetNames`, else the name of the target's
 //!   `POSITION` accessor, else `target N`.
 //! - A target without `POSITION` displaces nothing (zeros).
+//! - A required extension that changes how geometry is stored or placed
+//!   (Draco, mesh quantization, meshopt, GPU instancing) is an error; any
+//!   other (materials, textures) does not concern the geometry and is
+//!   kept as it is.
 //! - Morph targets and ARKit names are not required here: [`check_avatar`]
 //!   asks for them when the file is to be used as an avatar.
 
@@ -66,6 +70,14 @@ pub fn read_avatar_bytes(bytes: &[u8], name: &str) -> Result<GlbAvatar, GlbError
     read(bytes, Path::new(name), None)
 }
 
+/// Required extensions that change how vertices are stored or placed.
+const GEOMETRY_EXTENSIONS: [&str; 4] = [
+    "KHR_draco_mesh_compression",
+    "KHR_mesh_quantization",
+    "EXT_meshopt_compression",
+    "EXT_mesh_gpu_instancing",
+];
+
 fn read(bytes: &[u8], file: &Path, folder: Option<&Path>) -> Result<GlbAvatar, GlbError> {
     let invalid = |what: String| GlbError::Invalid {
         file: file.to_path_buf(),
@@ -74,8 +86,20 @@ fn read(bytes: &[u8], file: &Path, folder: Option<&Path>) -> Result<GlbAvatar, G
     let parts = container::split(bytes, file)?;
     let json: serde_json::Value =
         serde_json::from_slice(parts.json).map_err(|e| invalid(e.to_string()))?;
-    let root =
+    let mut root: gltf::json::Root =
         gltf::json::deserialize::from_slice(parts.json).map_err(|e| invalid(e.to_string()))?;
+    // The `gltf` crate refuses every required extension it was not built
+    // with; only those that change how geometry is stored matter here.
+    if let Some(ext) = root
+        .extensions_required
+        .iter()
+        .find(|e| GEOMETRY_EXTENSIONS.contains(&e.as_str()))
+    {
+        return Err(invalid(format!(
+            "requires {ext}, which stores geometry in a way this reader does not decode"
+        )));
+    }
+    root.extensions_required.clear();
     let document = gltf::Document::from_json(root).map_err(|e| match e {
         gltf::Error::Validation(list) => invalid(
             list.iter()

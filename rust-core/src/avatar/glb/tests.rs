@@ -444,6 +444,8 @@ fn every_broken_file_gives_its_typed_error() {
     assert!(matches!(e, GlbError::NoMesh { .. }), "{e}");
     let e = error_of(|d, _| d["nodes"][1]["mesh"] = json!(7));
     assert!(matches!(e, GlbError::Invalid { .. }), "{e}");
+    let e = error_of(|d, _| d["extensionsRequired"] = json!(["KHR_draco_mesh_compression"]));
+    assert!(matches!(e, GlbError::Invalid { .. }), "{e}");
     let e = error_of(|d, _| d["buffers"][0]["byteLength"] = json!(1 << 30));
     assert!(matches!(e, GlbError::Buffer { buffer: 0, .. }), "{e}");
 }
@@ -533,6 +535,26 @@ fn a_skinned_mesh_is_placed_by_its_bind_pose_not_its_node() {
         Vec3::new(2.0, 0.5, 0.0)
     ));
     assert_eq!(g.placements[2].node, 2);
+}
+
+#[test]
+fn required_extensions_that_leave_geometry_alone_are_read_and_kept() {
+    let (mut doc, bin) = fixture();
+    doc["extensionsUsed"] = json!(["EXT_made_up", "KHR_texture_transform"]);
+    doc["extensionsRequired"] = json!(["KHR_texture_transform"]);
+    let g = read_avatar_bytes(&glb(&doc, &bin), "x.glb").unwrap();
+    let bytes = written_back_glb(
+        &g,
+        &NewShapes::new(),
+        TargetEncoding::Smallest,
+        Path::new("o"),
+    )
+    .unwrap();
+    let back = read_avatar_bytes(&bytes, "o").unwrap();
+    assert_eq!(
+        back.json()["extensionsRequired"],
+        json!(["KHR_texture_transform"])
+    );
 }
 
 #[test]

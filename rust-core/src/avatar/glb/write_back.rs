@@ -326,7 +326,9 @@ fn assemble(
     let after = used(&doc, Kind::Accessor, total);
     let drop: Vec<bool> = (0..total).map(|i| before[i] && !after[i]).collect();
     renumber(&mut doc, Kind::Accessor, &compacting(&drop));
-    remove(&mut doc["accessors"], &drop);
+    if let Some(list) = doc.get_mut("accessors") {
+        remove(list, &drop);
+    }
 
     let views_total = old_views + b.views.len();
     let views_before = used(&avatar.json, Kind::View, views_total);

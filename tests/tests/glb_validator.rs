@@ -61,8 +61,16 @@ fn avatar() -> Avatar {
                 name: Some("Teeth".into()),
                 target_names: names(&["jawOpen"]),
             },
+            AvatarMesh {
+                name: Some("Eyes".into()),
+                target_names: Vec::new(),
+            },
         ],
-        parts: vec![grid(0, 30, 30, 0.0, 3), grid(1, 5, 4, -0.01, 1)],
+        parts: vec![
+            grid(0, 30, 30, 0.0, 3),
+            grid(1, 5, 4, -0.01, 1),
+            grid(2, 4, 4, 0.01, 0),
+        ],
     }
 }
 
@@ -116,7 +124,7 @@ fn assert_clean(reports: &[Value]) {
 #[test]
 fn written_glbs_pass_the_khronos_validator() {
     let dir = temp_dir();
-    let looks = vec![MeshLook::SKIN, MeshLook::TOOTH];
+    let looks = vec![MeshLook::SKIN, MeshLook::TOOTH, MeshLook::EYE_WHITE];
     let new = dir.join("new.glb");
     write_new_avatar(
         &avatar(),
@@ -179,6 +187,11 @@ fn written_glbs_pass_the_khronos_validator() {
     let back = dir.join("back.glb");
     write_avatar(&moved, &shapes, &back).unwrap();
     let reread = read_avatar(&back).unwrap();
+    // The eyes had no targets; the new shapes move them (Apple's order).
+    assert_eq!(
+        reread.avatar.meshes[2].target_names,
+        ["eyeBlinkLeft", "jawOpen", "cheekPuff"]
+    );
     assert_eq!(
         reread.avatar.meshes[0].target_names,
         ["jawOpen", "eyeBlinkLeft", "Fcl_custom", "cheekPuff"]

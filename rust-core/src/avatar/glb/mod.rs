@@ -1,0 +1,35 @@
+//! glTF 2.0 avatars in and out: `.glb` and `.gltf` read into an
+//! [`Avatar`](crate::avatar::Avatar) in world space, written back with new
+//! ARKit morph targets, or written new.
+//!
+//! | glTF 2.0 spec section | what | file |
+//! |---|---|---|
+//! | GLB File Format; Buffers and Buffer Views | the GLB container, `data:` URIs and `.bin` files | `container.rs` |
+//! | Accessors; Sparse Accessors | accessor data, lengths checked before use | `accessor.rs` |
+//! | Nodes and Hierarchy; Transformations; Skins | where the scene places each mesh | [`scene`] |
+//! | Meshes; Morph Targets | reading an avatar, checking it has ARKit's names | [`read`] |
+//! | Accessors; Data Alignment; Accessor Bounds | accessors and views as written, dense or sparse | [`encode`] |
+//! | | where accessors and views are referred to, renumbering | `refs.rs` |
+//! | Morph Targets | writing a read file back with new targets | [`write_back`] |
+//! | Meshes; Materials | writing an avatar as a new GLB | [`write_new`] |
+//! | | the one error type | [`error`] |
+
+mod accessor;
+mod container;
+pub mod encode;
+pub mod error;
+pub mod read;
+mod refs;
+pub mod scene;
+pub mod write_back;
+pub mod write_new;
+
+pub use error::GlbError;
+pub use read::{GlbAvatar, check_avatar, read_avatar, read_avatar_bytes};
+#[cfg(test)]
+mod tests;
+
+pub use encode::TargetEncoding;
+pub use scene::Placement;
+pub use write_back::{NewShapes, write_avatar, written_back_glb};
+pub use write_new::{MeshLook, NewGlbOptions, new_avatar_glb, write_new_avatar};

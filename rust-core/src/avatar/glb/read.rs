@@ -1,0 +1,316 @@
+//! Reading a `.glb` or `.gltf` avatar: every triangle primitive the default
+//! scene places, in world space, with its morph targets.
+//!
+//! Decisions:
+//! - Only mode `TRIANGLES` (4) is read; a placed primitive of any other
+//!   mode is an error ([`GlbError::Primitive`]) rather than skipped, since
+//!   writing targets back needs every primitive of the mesh.
+//! - A triangle with an index past the vertex count or a repeated index is
+//!   an error ([`GlbError::Triangle`]); a triangle of three distinct
+//!   vertices at one place (zero area) is accepted, as real avatars have
+//!   them at seams and the geometry code weighs by area.
+//! - A mesh placed by several nodes gives one part per placement.
+//! - Target names come from the mesh's `extras.targetNames`, else the first
+//!   primitive's `extras.targetNames`, else the name of the target's
+//!   `POSITION` accessor, else `target N`.
+//! - A target without `POSITION` displaces nothing (zeros).
+//! - A required extension that changes how geometry is stored or placed
+//!   (Draco, mesh quantization, meshopt, GPU instancing) is an error; any
+//!   other (materials, textures) does not concern the geometry and is
+//!   kept as it is.
+//! - Morph targets and ARKit names are not required here: [`check_avatar`]
+//!   asks for them when the file is to be used as an avatar.
+
+use super::accessor::Source;
+use super::scene::{Placement, placements};
+use super::{GlbError, container};
+use crate::avatar::{ArkitTargets, Avatar, AvatarMesh, AvatarPart, target_names::arkit_targets};
+use glam::Vec3;
+use std::path::{Path, PathBuf};
+
+/// An avatar read from a glTF file, with what is needed to write the file
+/// back with new morph targets.
+#[derive(Clone, Debug)]
+pub struct GlbAvatar {
+    /// The meshes in world space.
+    pub avatar: Avatar,
+    /// Where each of `avatar.parts` is placed (same order).
+    pub placements: Vec<Placement>,
+    /// The file it came from, for messages.
+    pub file: PathBuf,
+    pub(crate) json: serde_json::Value,
+    pub(crate) buffers: Vec<Vec<u8>>,
+}
+
+impl GlbAvatar {
+    /// The file's JSON document as read.
+    pub fn json(&self) -> &serde_json::Value {
+        &self.json
+    }
+
+    /// The bytes of each buffer as read.
+    pub fn buffers(&self) -> &[Vec<u8>] {
+        &self.buffers
+    }
+}
+
+/// Reads a `.glb`, or a `.gltf` with its buffers in `data:` URIs or in
+/// files beside it.
+pub fn read_avatar(path: &Path) -> Result<GlbAvatar, GlbError> {
+    let bytes = std::fs::read(path).map_err(|source| GlbError::Io {
+        file: path.to_path_buf(),
+        source,
+    })?;
+    read(&bytes, path, path.parent())
+}
+
+/// Reads a GLB, or a `.gltf` whose buffers are all `data:` URIs, from
+/// memory; `name` stands for the file in messages.
+pub fn read_avatar_bytes(bytes: &[u8], name: &str) -> Result<GlbAvatar, GlbError> {
+    read(bytes, Path::new(name), None)
+}
+
+/// Required extensions that change how vertices are stored or placed.
+const GEOMETRY_EXTENSIONS: [&str; 4] = [
+    "KHR_draco_mesh_compression",
+    "KHR_mesh_quantization",
+    "EXT_meshopt_compression",
+    "EXT_mesh_gpu_instancing",
+];
+
+fn read(bytes: &[u8], file: &Path, folder: Option<&Path>) -> Result<GlbAvatar, GlbError> {
+    let invalid = |what: String| GlbError::Invalid {
+        file: file.to_path_buf(),
+        what,
+    };
+    let parts = container::split(bytes, file)?;
+    let json: serde_json::Value =
+        serde_json::from_slice(parts.json).map_err(|e| invalid(e.to_string()))?;
+    let mut root: gltf::json::Root =
+        gltf::json::deserialize::from_slice(parts.json).map_err(|e| invalid(e.to_string()))?;
+    // The `gltf` crate refuses every required extension it was not built
+    // with; only those that change how geometry is stored matter here.
+    if let Some(ext) = root
+        .extensions_required
+        .iter()
+        .find(|e| GEOMETRY_EXTENSIONS.contains(&e.as_str()))
+    {
+        return Err(invalid(format!(
+            "requires {ext}, which stores geometry in a way this reader does not decode"
+        )));
+    }
+    root.extensions_required.clear();
+    let document = gltf::Document::from_json(root).map_err(|e| match e {
+        gltf::Error::Validation(list) => invalid(
+            list.iter()
+                .take(5)
+                .map(|(path, e)| format!("{}: {e}", path.as_str()))
+                .collect::<Vec<_>>()
+                .join("; "),
+        ),
+        other => invalid(other.to_string()),
+    })?;
+    let buffers = container::load_buffers(&document, parts.bin, folder, file)?;
+    let source = Source {
+        file,
+        buffers: &buffers,
+    };
+    let mut placed = placements(&document, &source)?;
+    placed.sort_by_key(|p| p.mesh); // parts grouped by mesh, stable
+    let mut meshes = Vec::new();
+    for mesh in document.meshes() {
+        check_target_counts(&mesh, file)?;
+        meshes.push(AvatarMesh {
+            name: mesh.name().map(str::to_string),
+            target_names: target_names(&mesh, &json),
+        });
+    }
+    let mut out_parts = Vec::new();
+    let mut out_placements = Vec::new();
+    for placement in &placed {
+        let Some(mesh) = document.meshes().nth(placement.mesh) else {
+            continue;
+        };
+        let node = document.nodes().nth(placement.node);
+        let name = node
+            .and_then(|n| n.name().map(str::to_string))
+            .or_else(|| mesh.name().map(str::to_string))
+            .unwrap_or_else(|| format!("mesh {}", mesh.index()));
+        for primitive in mesh.primitives() {
+            out_parts.push(read_part(&source, &mesh, &primitive, placement, &name)?);
+            out_placements.push(*placement);
+        }
+    }
+    if out_parts.is_empty() {
+        return Err(GlbError::NoMesh {
+            file: file.to_path_buf(),
+        });
+    }
+    Ok(GlbAvatar {
+        avatar: Avatar {
+            meshes,
+            parts: out_parts,
+        },
+        placements: out_placements,
+        file: file.to_path_buf(),
+        json,
+        buffers,
+    })
+}
+
+/// The spec's rule: every primitive of a mesh has the same number of
+/// targets.
+fn check_target_counts(mesh: &gltf::Mesh, file: &Path) -> Result<(), GlbError> {
+    let mut primitives = mesh.primitives();
+    let expected = primitives.next().map_or(0, |p| p.morph_targets().len());
+    for p in primitives {
+        let found = p.morph_targets().len();
+        if found != expected {
+            return Err(GlbError::TargetCount {
+                file: file.to_path_buf(),
+                mesh: mesh.index(),
+                primitive: p.index(),
+                expected,
+                found,
+            });
+        }
+    }
+    Ok(())
+}
+
+fn target_names(mesh: &gltf::Mesh, json: &serde_json::Value) -> Vec<String> {
+    let count = mesh
+        .primitives()
+        .next()
+        .map_or(0, |p| p.morph_targets().len());
+    let m = &json["meshes"][mesh.index()];
+    let from_extras = |extras: &serde_json::Value, t: usize| {
+        extras["targetNames"][t].as_str().map(str::to_string)
+    };
+    let first = mesh.primitives().next();
+    (0..count)
+        .map(|t| {
+            from_extras(&m["extras"], t)
+                .or_else(|| from_extras(&m["primitives"][0]["extras"], t))
+                .or_else(|| {
+                    let target = first.as_ref()?.morph_targets().nth(t)?;
+                    target.positions()?.name().map(str::to_string)
+                })
+                .unwrap_or_else(|| format!("target {t}"))
+        })
+        .collect()
+}
+
+fn read_part(
+    source: &Source,
+    mesh: &gltf::Mesh,
+    primitive: &gltf::Primitive,
+    placement: &Placement,
+    name: &str,
+) -> Result<AvatarPart, GlbError> {
+    let (m, p) = (mesh.index(), primitive.index());
+    let file = source.file.to_path_buf();
+    let prim_err = |what: &str| GlbError::Primitive {
+        file: file.clone(),
+        mesh: m,
+        primitive: p,
+        what: what.to_string(),
+    };
+    if primitive.mode() != gltf::mesh::Mode::Triangles {
+        return Err(prim_err(&format!(
+            "mode {:?}; only TRIANGLES is read",
+            primitive.mode()
+        )));
+    }
+    let accessor = primitive
+        .get(&gltf::Semantic::Positions)
+        .ok_or_else(|| prim_err("no POSITION"))?;
+    let local = source.vec3(&accessor, None)?;
+    check_finite(&local, source.file, m, p, "position")?;
+    let n = local.len();
+    let indices = match primitive.indices() {
+        Some(a) => source.indices(&a)?,
+        None => (0..n as u32).collect(),
+    };
+    if indices.len() % 3 != 0 {
+        return Err(prim_err(&format!(
+            "{} indices, not a multiple of 3",
+            indices.len()
+        )));
+    }
+    let mut triangles = Vec::with_capacity(indices.len() / 3);
+    for (k, t) in indices.chunks_exact(3).enumerate() {
+        let tri = [t[0], t[1], t[2]];
+        let what = if let Some(&i) = tri.iter().find(|&&i| i as usize >= n) {
+            format!("index {i} past the {n} vertices")
+        } else if tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2] {
+            format!("repeated index {tri:?}")
+        } else {
+            triangles.push(tri);
+            continue;
+        };
+        return Err(GlbError::Triangle {
+            file: file.clone(),
+            mesh: m,
+            primitive: p,
+            triangle: k,
+            what,
+        });
+    }
+    let linear = placement.linear();
+    let mut targets = Vec::new();
+    for (t, target) in primitive.morph_targets().enumerate() {
+        let d = match target.positions() {
+            Some(a) => source.vec3(&a, Some(n))?,
+            None => vec![Vec3::ZERO; n],
+        };
+        check_finite(&d, source.file, m, p, &format!("target {t}"))?;
+        targets.push(d.into_iter().map(|v| linear * v).collect());
+    }
+    Ok(AvatarPart {
+        name: name.to_string(),
+        mesh: m,
+        primitive: p,
+        positions: local
+            .iter()
+            .map(|&v| placement.world.transform_point3(v))
+            .collect(),
+        triangles,
+        targets,
+    })
+}
+
+fn check_finite(
+    values: &[Vec3],
+    file: &Path,
+    mesh: usize,
+    primitive: usize,
+    which: &str,
+) -> Result<(), GlbError> {
+    match values.iter().position(|v| !v.is_finite()) {
+        Some(vertex) => Err(GlbError::NotFinite {
+            file: file.to_path_buf(),
+            mesh,
+            primitive,
+            which: which.to_string(),
+            vertex,
+        }),
+        None => Ok(()),
+    }
+}
+
+/// What a read file offers as an avatar: which (mesh, target) pairs carry
+/// each of ARKit's 52 shapes ([`ArkitTargets::missing`] lists the rest).
+/// An error if no placed mesh has morph targets or no target has one of
+/// ARKit's names.
+pub fn check_avatar(avatar: &GlbAvatar) -> Result<ArkitTargets, GlbError> {
+    let file = avatar.file.clone();
+    if avatar.avatar.parts.iter().all(|p| p.targets.is_empty()) {
+        return Err(GlbError::NoMorphTargets { file });
+    }
+    let found = arkit_targets(&avatar.avatar);
+    if found.found() == 0 {
+        return Err(GlbError::NoArkitTargets { file });
+    }
+    Ok(found)
+}

@@ -1,0 +1,138 @@
+//! Where a glTF document refers to accessors and buffer views by index, so
+//! that dropping some and renumbering the rest keeps every reference right.
+//!
+//! Accessors are referred to by primitives (`attributes`, `indices`,
+//! `targets`), skins (`inverseBindMatrices`), animation samplers (`input`,
+//! `output`) and `EXT_mesh_gpu_instancing`; buffer views by accessors
+//! (`bufferView`, both parts of `sparse`), images and
+//! `KHR_draco_mesh_compression`. An extension not listed here that refers
+//! to either by index would not be renumbered.
+
+use serde_json::Value;
+
+const ACCESSOR_REFS: &[&[&str]] = &[
+    &["meshes", "*", "primitives", "*", "attributes", "*"],
+    &["meshes", "*", "primitives", "*", "indices"],
+    &["meshes", "*", "primitives", "*", "targets", "*", "*"],
+    &["skins", "*", "inverseBindMatrices"],
+    &["animations", "*", "samplers", "*", "input"],
+    &["animations", "*", "samplers", "*", "output"],
+    &[
+        "nodes",
+        "*",
+        "extensions",
+        "EXT_mesh_gpu_instancing",
+        "attributes",
+        "*",
+    ],
+];
+
+const VIEW_REFS: &[&[&str]] = &[
+    &["accessors", "*", "bufferView"],
+    &["accessors", "*", "sparse", "indices", "bufferView"],
+    &["accessors", "*", "sparse", "values", "bufferView"],
+    &["images", "*", "bufferView"],
+    &[
+        "meshes",
+        "*",
+        "primitives",
+        "*",
+        "extensions",
+        "KHR_draco_mesh_compression",
+        "bufferView",
+    ],
+];
+
+/// What is referred to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Kind {
+    Accessor,
+    View,
+}
+
+fn paths(kind: Kind) -> &'static [&'static [&'static str]] {
+    match kind {
+        Kind::Accessor => ACCESSOR_REFS,
+        Kind::View => VIEW_REFS,
+    }
+}
+
+fn visit(v: &mut Value, path: &[&str], f: &mut dyn FnMut(&mut Value)) {
+    let Some((&first, rest)) = path.split_first() else {
+        f(v);
+        return;
+    };
+    match (first, v) {
+        ("*", Value::Array(items)) => items.iter_mut().for_each(|x| visit(x, rest, f)),
+        ("*", Value::Object(map)) => map.values_mut().for_each(|x| visit(x, rest, f)),
+        (key, Value::Object(map)) => {
+            if let Some(x) = map.get_mut(key) {
+                visit(x, rest, f);
+            }
+        }
+        _ => {}
+    }
+}
+
+/// Which of `len` objects of `kind` the document refers to.
+pub(crate) fn used(doc: &Value, kind: Kind, len: usize) -> Vec<bool> {
+    let mut doc = doc.clone();
+    let mut out = vec![false; len];
+    for path in paths(kind) {
+        visit(&mut doc, path, &mut |v| {
+            if let Some(slot) = v.as_u64().and_then(|i| out.get_mut(i as usize)) {
+                *slot = true;
+            }
+        });
+    }
+    out
+}
+
+/// Rewrites every reference of `kind`: index `i` becomes `map[i]`.
+pub(crate) fn renumber(doc: &mut Value, kind: Kind, map: &[Option<usize>]) {
+    for path in paths(kind) {
+        visit(doc, path, &mut |v| {
+            if let Some(Some(new)) = v.as_u64().and_then(|i| map.get(i as usize)) {
+                *v = Value::from(*new);
+            }
+        });
+    }
+}
+
+/// The renumbering that drops the objects where `drop` is true and closes
+/// the gaps.
+pub(crate) fn compacting(drop: &[bool]) -> Vec<Option<usize>> {
+    let mut next = 0;
+    drop.iter()
+        .map(|&d| {
+            (!d).then(|| {
+                next += 1;
+                next - 1
+            })
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    #[test]
+    fn renumbers_every_listed_reference() {
+        let mut doc = json!({
+            "meshes": [{ "primitives": [{ "attributes": { "POSITION": 0 }, "indices": 3,
+                "targets": [{ "POSITION": 2 }] }] }],
+            "skins": [{ "inverseBindMatrices": 3 }],
+        });
+        assert_eq!(used(&doc, Kind::Accessor, 4), [true, false, true, true]);
+        let map = compacting(&[false, true, false, false]);
+        renumber(&mut doc, Kind::Accessor, &map);
+        assert_eq!(doc["meshes"][0]["primitives"][0]["indices"], json!(2));
+        assert_eq!(
+            doc["meshes"][0]["primitives"][0]["targets"][0]["POSITION"],
+            json!(1)
+        );
+        assert_eq!(doc["skins"][0]["inverseBindMatrices"], json!(2));
+    }
+}

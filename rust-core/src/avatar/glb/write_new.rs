@@ -1,0 +1,226 @@
+//! Writing an [`Avatar`] as a new GLB: one glTF mesh per [`AvatarMesh`]
+//! (each placed by a node of its own at the origin, since the avatar is
+//! already in world space), one primitive per part, a plain PBR material
+//! per mesh in a colour the caller gives, and smooth vertex normals.
+//!
+//! A vertex's normal is the sum of `(b − a) × (c − a)` over the triangles
+//! around it, normalized: each face weighs by twice its area, so slivers
+//! barely tilt it (pmp-library's area-weighted vertex normal). A vertex on
+//! no triangle gets +Y (the spec requires unit normals).
+//!
+//! Target names are written in ARKit's exact spelling where they are one of
+//! ARKit's 52 (other names as they are), in the mesh's `extras.targetNames`
+//! and each primitive's (UniVRM reads the primitive's).
+
+use super::GlbError;
+use super::container;
+use super::encode::{Builder, TargetEncoding};
+use crate::avatar::target_names::{TargetName, parse_target_name};
+use crate::avatar::{Avatar, AvatarMesh};
+use crate::io::atomic_write::write_atomically;
+use glam::Vec3;
+use serde_json::{Value, json};
+use std::path::Path;
+
+/// A mesh's material: metallic-roughness PBR with one colour.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MeshLook {
+    /// Linear RGBA base colour, each in 0..=1.
+    pub base_colour: [f32; 4],
+    /// 0 for skin, teeth and eyes.
+    pub metallic: f32,
+    /// 0 mirror-like ..= 1 matte.
+    pub roughness: f32,
+}
+
+impl MeshLook {
+    /// A light skin tone.
+    pub const SKIN: MeshLook = MeshLook::plain([0.80, 0.57, 0.46, 1.0], 0.6);
+    /// The white of the eye.
+    pub const EYE_WHITE: MeshLook = MeshLook::plain([0.92, 0.92, 0.90, 1.0], 0.2);
+    /// Teeth.
+    pub const TOOTH: MeshLook = MeshLook::plain([0.90, 0.88, 0.80, 1.0], 0.3);
+    /// Gums and tongue.
+    pub const GUM: MeshLook = MeshLook::plain([0.75, 0.35, 0.38, 1.0], 0.4);
+    /// Grey, for meshes no look is given for.
+    pub const GREY: MeshLook = MeshLook::plain([0.6, 0.6, 0.6, 1.0], 0.7);
+
+    /// A non-metallic material of `base_colour` and `roughness`.
+    pub const fn plain(base_colour: [f32; 4], roughness: f32) -> MeshLook {
+        MeshLook {
+            base_colour,
+            metallic: 0.0,
+            roughness,
+        }
+    }
+}
+
+/// How [`write_new_avatar`] writes.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct NewGlbOptions {
+    /// The material of each mesh, in [`Avatar::meshes`] order; meshes past
+    /// the end are [`MeshLook::GREY`].
+    pub looks: Vec<MeshLook>,
+    /// Dense or smallest targets.
+    pub encoding: TargetEncoding,
+}
+
+/// Writes `avatar` as a new GLB at `path` (atomically).
+pub fn write_new_avatar(
+    avatar: &Avatar,
+    options: &NewGlbOptions,
+    path: &Path,
+) -> Result<(), GlbError> {
+    let bytes = new_avatar_glb(avatar, options, path)?;
+    write_atomically(path, &bytes).map_err(|source| GlbError::Io {
+        file: path.to_path_buf(),
+        source,
+    })
+}
+
+/// The GLB [`write_new_avatar`] writes, in memory; `file` names it in
+/// messages.
+pub fn new_avatar_glb(
+    avatar: &Avatar,
+    options: &NewGlbOptions,
+    file: &Path,
+) -> Result<Vec<u8>, GlbError> {
+    check(avatar, file)?;
+    let mut b = Builder::new();
+    let mut meshes = Vec::new();
+    let mut materials = Vec::new();
+    for (m, mesh) in avatar.meshes.iter().enumerate() {
+        let names = arkit_spelling(mesh);
+        let mut primitives = Vec::new();
+        for part in avatar.parts.iter().filter(|p| p.mesh == m) {
+            let position = b.vec3(&part.positions);
+            let normal = b.vec3(&vertex_normals(&part.positions, &part.triangles));
+            let indices = b.triangles(&part.triangles);
+            let targets: Vec<Value> = part
+                .targets
+                .iter()
+                .zip(&names)
+                .map(|(d, name)| json!({ "POSITION": b.target(d, name, options.encoding) }))
+                .collect();
+            let mut p = json!({
+                "attributes": { "POSITION": position, "NORMAL": normal },
+                "indices": indices, "material": m, "mode": 4,
+            });
+            if !targets.is_empty() {
+                p["targets"] = Value::Array(targets);
+                p["extras"] = json!({ "targetNames": names });
+            }
+            primitives.push(p);
+        }
+        let name = mesh.name.clone().unwrap_or_else(|| format!("mesh {m}"));
+        let mut out = json!({ "name": name, "primitives": primitives });
+        if !names.is_empty() {
+            out["weights"] = json!(vec![0.0; names.len()]);
+            out["extras"] = json!({ "targetNames": names });
+        }
+        meshes.push(out);
+        let look = options.looks.get(m).copied().unwrap_or(MeshLook::GREY);
+        materials.push(json!({
+            "name": name,
+            "pbrMetallicRoughness": {
+                "baseColorFactor": look.base_colour.map(f64::from),
+                "metallicFactor": look.metallic, "roughnessFactor": look.roughness,
+            },
+        }));
+    }
+    let nodes: Vec<Value> = meshes
+        .iter()
+        .enumerate()
+        .map(|(m, mesh)| json!({ "name": mesh["name"], "mesh": m }))
+        .collect();
+    let mut doc = json!({
+        "asset": { "version": "2.0", "generator": "Likeness" },
+        "scene": 0,
+        "scenes": [{ "nodes": (0..nodes.len()).collect::<Vec<_>>() }],
+        "nodes": nodes, "meshes": meshes, "materials": materials,
+        "accessors": b.accessors, "bufferViews": b.views,
+    });
+    if !b.bin.is_empty() {
+        doc["buffers"] = json!([{ "byteLength": b.bin.len() }]);
+    }
+    let text = serde_json::to_vec(&doc).map_err(|e| GlbError::Write {
+        file: file.to_path_buf(),
+        what: e.to_string(),
+    })?;
+    Ok(container::join(&text, &b.bin))
+}
+
+/// Target names, in ARKit's spelling where they are ARKit's.
+fn arkit_spelling(mesh: &AvatarMesh) -> Vec<String> {
+    mesh.target_names
+        .iter()
+        .map(|n| match parse_target_name(n) {
+            TargetName::Arkit(shape) => shape.name().to_string(),
+            _ => n.clone(),
+        })
+        .collect()
+}
+
+/// Area-weighted vertex normals (see the module's doc).
+pub fn vertex_normals(positions: &[Vec3], triangles: &[[u32; 3]]) -> Vec<Vec3> {
+    let mut sum = vec![Vec3::ZERO; positions.len()];
+    for t in triangles {
+        let [a, b, c] = t.map(|i| positions[i as usize]);
+        let n = (b - a).cross(c - a);
+        for &i in t {
+            sum[i as usize] += n;
+        }
+    }
+    sum.into_iter()
+        .map(|n| n.try_normalize().unwrap_or(Vec3::Y))
+        .collect()
+}
+
+/// The avatar is one a GLB can hold: every mesh has parts, every part has
+/// finite positions, triangles within range and one displacement per
+/// vertex for each of its mesh's targets.
+fn check(avatar: &Avatar, file: &Path) -> Result<(), GlbError> {
+    let err = |what: String| {
+        Err(GlbError::Write {
+            file: file.to_path_buf(),
+            what,
+        })
+    };
+    for m in 0..avatar.meshes.len() {
+        if !avatar.parts.iter().any(|p| p.mesh == m) {
+            return err(format!("mesh {m} has no parts"));
+        }
+    }
+    for (k, part) in avatar.parts.iter().enumerate() {
+        let n = part.positions.len();
+        let Some(mesh) = avatar.meshes.get(part.mesh) else {
+            return err(format!("part {k}: mesh {} does not exist", part.mesh));
+        };
+        if n == 0 || part.triangles.is_empty() {
+            return err(format!("part {k}: no vertices or no triangles"));
+        }
+        if let Some(v) = part.positions.iter().position(|p| !p.is_finite()) {
+            return err(format!("part {k} vertex {v}: position not finite"));
+        }
+        if let Some(t) = part
+            .triangles
+            .iter()
+            .position(|t| t.iter().any(|&i| i as usize >= n))
+        {
+            return err(format!("part {k} triangle {t}: index past {n} vertices"));
+        }
+        if part.targets.len() != mesh.target_names.len() {
+            return err(format!(
+                "part {k}: {} targets, its mesh names {}",
+                part.targets.len(),
+                mesh.target_names.len()
+            ));
+        }
+        for (t, d) in part.targets.iter().enumerate() {
+            if d.len() != n || d.iter().any(|v| !v.is_finite()) {
+                return err(format!("part {k} target {t}: not {n} finite displacements"));
+            }
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,211 @@
+//! Every GLB Likeness writes passes the Khronos glTF-Validator with no
+//! error and no warning: a new avatar of two meshes with sparse and dense
+//! targets, and a read `.gltf` with a scaled, rotated, translated node
+//! written back with new shapes. The validator runs under Node from
+//! `tests/js` (`tests/run` installs it); without it this test fails.
+
+use glam::{Quat, Vec3};
+use likeness::Blendshape;
+use likeness::avatar::glb::{
+    MeshLook, NewGlbOptions, NewShapes, read_avatar, write_avatar, write_new_avatar,
+};
+use likeness::avatar::{Avatar, AvatarMesh, AvatarPart};
+use serde_json::{Value, json};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// A `w × h` grid in the xy plane at depth `z`, as a part of mesh `mesh`.
+fn grid(mesh: usize, w: u32, h: u32, z: f32, targets: usize) -> AvatarPart {
+    let positions: Vec<Vec3> = (0..h)
+        .flat_map(|y| (0..w).map(move |x| Vec3::new(x as f32 * 0.01, y as f32 * 0.01, z)))
+        .collect();
+    let mut triangles = Vec::new();
+    for y in 0..h - 1 {
+        for x in 0..w - 1 {
+            let i = y * w + x;
+            triangles.push([i, i + 1, i + w + 1]);
+            triangles.push([i, i + w + 1, i + w]);
+        }
+    }
+    let n = positions.len();
+    let targets = (0..targets)
+        .map(|t| {
+            (0..n)
+                .map(|v| match t {
+                    0 if v % 10 == 0 => Vec3::new(0.0, -0.004, 0.001), // sparse
+                    1 => Vec3::new(0.0, 0.0, 0.002 * (v % 3) as f32),  // dense
+                    _ => Vec3::ZERO,                                   // still
+                })
+                .collect()
+        })
+        .collect();
+    AvatarPart {
+        name: format!("mesh {mesh}"),
+        mesh,
+        primitive: 0,
+        positions,
+        triangles,
+        targets,
+    }
+}
+
+fn avatar() -> Avatar {
+    let names = |v: &[&str]| v.iter().map(|s| s.to_string()).collect();
+    Avatar {
+        meshes: vec![
+            AvatarMesh {
+                name: Some("Head".into()),
+                target_names: names(&["JawOpen", "eyeBlink_L", "Fcl_custom"]),
+            },
+            AvatarMesh {
+                name: Some("Teeth".into()),
+                target_names: names(&["jawOpen"]),
+            },
+            AvatarMesh {
+                name: Some("Eyes".into()),
+                target_names: Vec::new(),
+            },
+        ],
+        parts: vec![
+            grid(0, 30, 30, 0.0, 3),
+            grid(1, 5, 4, -0.01, 1),
+            grid(2, 4, 4, 0.01, 0),
+        ],
+    }
+}
+
+fn temp_dir() -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("likeness-glb-validator-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// The validator's reports on `files`, one per file.
+fn validate(files: &[PathBuf]) -> Vec<Value> {
+    let js = Path::new(env!("CARGO_MANIFEST_DIR")).join("js");
+    assert!(
+        js.join("node_modules/gltf-validator").is_dir(),
+        "the glTF-Validator is not installed: run `tests/run` (or `npm ci` in tests/js) first"
+    );
+    let out = Command::new("node")
+        .arg(js.join("validate.mjs"))
+        .args(files)
+        .output()
+        .expect("cannot run `node`: install Node.js (see tests/run)");
+    assert!(
+        out.status.success(),
+        "validator failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice::<Vec<Value>>(&out.stdout).unwrap()
+}
+
+fn assert_clean(reports: &[Value]) {
+    for r in reports {
+        let issues = &r["issues"];
+        eprintln!(
+            "{} (validator {}): {} errors, {} warnings, {} infos, {} hints",
+            r["file"],
+            r["validatorVersion"],
+            issues["numErrors"],
+            issues["numWarnings"],
+            issues["numInfos"],
+            issues["numHints"]
+        );
+        for m in issues["messages"].as_array().unwrap() {
+            eprintln!("{}: {m}", r["file"]);
+        }
+        assert_eq!(issues["numErrors"], json!(0), "{}", r["file"]);
+        assert_eq!(issues["numWarnings"], json!(0), "{}", r["file"]);
+        assert_eq!(issues["numInfos"], json!(0), "{}", r["file"]);
+    }
+}
+
+#[test]
+fn written_glbs_pass_the_khronos_validator() {
+    let dir = temp_dir();
+    let looks = vec![MeshLook::SKIN, MeshLook::TOOTH, MeshLook::EYE_WHITE];
+    let new = dir.join("new.glb");
+    write_new_avatar(
+        &avatar(),
+        &NewGlbOptions {
+            looks,
+            ..Default::default()
+        },
+        &new,
+    )
+    .unwrap();
+
+    // The new file as a .gltf beside its .bin, its node moved, rotated and
+    // scaled, then read and written back with new shapes.
+    let read = read_avatar(&new).unwrap();
+    let mut doc = read.json().clone();
+    let q = Quat::from_rotation_x(0.3);
+    doc["nodes"][0]["translation"] = json!([0.1, 1.6, 0.0]);
+    doc["nodes"][0]["rotation"] = json!([q.x, q.y, q.z, q.w]);
+    doc["nodes"][0]["scale"] = json!([0.5, 0.5, 0.5]);
+    doc["buffers"][0]["uri"] = json!("moved.bin");
+    std::fs::write(dir.join("moved.bin"), &read.buffers()[0]).unwrap();
+    let gltf = dir.join("moved.gltf");
+    std::fs::write(&gltf, serde_json::to_vec(&doc).unwrap()).unwrap();
+    let moved = read_avatar(&gltf).unwrap();
+    let mut shapes = NewShapes::new();
+    let per_part = |f: &dyn Fn(usize, Vec3) -> Vec3| -> Vec<Vec<Vec3>> {
+        moved
+            .avatar
+            .parts
+            .iter()
+            .map(|p| {
+                p.positions
+                    .iter()
+                    .enumerate()
+                    .map(|(v, &x)| f(v, x))
+                    .collect()
+            })
+            .collect()
+    };
+    shapes.set(
+        Blendshape::JawOpen,
+        per_part(&|_, x| Vec3::new(0.0, -0.01 * x.x, 0.0)),
+    );
+    shapes.set(
+        Blendshape::EyeBlinkLeft,
+        per_part(&|v, _| {
+            if v % 17 == 0 {
+                Vec3::Y * 0.003
+            } else {
+                Vec3::ZERO
+            }
+        }),
+    );
+    shapes.set(
+        Blendshape::CheekPuff,
+        per_part(&|v, _| {
+            if v < 40 { Vec3::Z * 0.002 } else { Vec3::ZERO }
+        }),
+    );
+    let back = dir.join("back.glb");
+    write_avatar(&moved, &shapes, &back).unwrap();
+    let reread = read_avatar(&back).unwrap();
+    // The eyes had no targets; the new shapes move them (Apple's order).
+    assert_eq!(
+        reread.avatar.meshes[2].target_names,
+        ["eyeBlinkLeft", "jawOpen", "cheekPuff"]
+    );
+    assert_eq!(
+        reread.avatar.meshes[0].target_names,
+        ["jawOpen", "eyeBlinkLeft", "Fcl_custom", "cheekPuff"]
+    );
+
+    // A control: the validator does see a wrong `max`.
+    let mut wrong = doc.clone();
+    wrong["accessors"][0]["max"] = json!([9.0, 9.0, 9.0]);
+    let control = dir.join("wrong.gltf");
+    std::fs::write(&control, serde_json::to_vec(&wrong).unwrap()).unwrap();
+
+    let reports = validate(&[new, back, control]);
+    assert_eq!(reports.len(), 3);
+    assert_clean(&reports[..2]);
+    assert_ne!(reports[2]["issues"]["numErrors"], json!(0), "the control");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -3,6 +3,7 @@
 //!
 //! Errors go to stderr with a non-zero exit status and never as a panic.
 
+mod avatar;
 mod info;
 mod interchange;
 mod personalize;
@@ -93,6 +94,33 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Put a session's personalized shapes onto an avatar (§3.3) and write
+    /// it as GLB. This release writes the automatic retargeting of Eq. (4):
+    /// the avatar's own blendshapes combined to approximate the person's.
+    Avatar {
+        /// The session file.
+        session: PathBuf,
+        /// The avatar (.glb or .gltf with ARKit-named morph targets);
+        /// default: the project's own default avatar.
+        #[arg(long)]
+        avatar: Option<PathBuf>,
+        /// The GLB to write.
+        #[arg(long)]
+        out: PathBuf,
+        /// dt, ebfr, paper, paper-cv or multi.
+        #[arg(long, default_value_t = likeness::personalize::Method::DEFAULT)]
+        method: likeness::personalize::Method,
+        /// Also write the 52 × k weights that map ARKit's weights to the
+        /// avatar's own targets, as JSON (format in the README).
+        #[arg(long, value_name = "FILE")]
+        retarget_map: Option<PathBuf>,
+        /// Where registrations are cached (default: ~/.cache/likeness).
+        #[arg(long, value_name = "DIR")]
+        cache_dir: Option<PathBuf>,
+        /// Print a JSON object instead of text.
+        #[arg(long)]
+        json: bool,
+    },
     /// Print a summary of a session file.
     Info {
         /// The session file.
@@ -116,6 +144,23 @@ fn main() -> ExitCode {
             geometry_window,
         } => simulate::simulate(seed, geometry_window, &out),
         Command::Info { file, json } => info::info(&file, json),
+        Command::Avatar {
+            session,
+            avatar,
+            out,
+            method,
+            retarget_map,
+            cache_dir,
+            json,
+        } => avatar::avatar_command(&avatar::AvatarArgs {
+            session,
+            avatar,
+            out,
+            method,
+            retarget_map,
+            cache_dir,
+            json,
+        }),
         Command::Replay { file, json } => replay::replay_command(&file, json),
         Command::Personalize { file, method, out } => {
             personalize::personalize_command(&file, method, &out)

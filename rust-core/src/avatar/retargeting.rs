@@ -1,30 +1,36 @@
 //! Automatic retargeting, Eq. (4) of §3.3: each ARKit shape `B_j`, carried
 //! onto the avatar's face by the correspondence map `M`, approximated by a
-//! combination of the avatar's own `k` blendshapes `B̃_i`:
+//! combination of the avatar's own `k` blendshapes `B̃_i`. Beyond the
+//! paper, the ridge pulls the weights towards the avatar's own shape of
+//! the same name (`e_j`: 1 for the avatar's target named `j`, both halves
+//! of a split one, 0 elsewhere) instead of towards zero:
 //!
 //! ```text
-//! E_j(w̃) = ‖Σ_i w̃_i B̃_i − M B_j‖² + μ Σ_i w̃_i²,
-//! (GᵀG + μ₀ diag(GᵀG)) w̃_j = Gᵀ M B_j   (μ below),
+//! E_j(w̃) = ‖Σ_i w̃_i B̃_i − M B_j‖² + μ ‖w̃ − e_j‖²,
+//! (GᵀG + μI) w̃_j = Gᵀ M B_j + μ e_j,
 //! ```
 //!
 //! with `G` (3F × k) the displacements of the avatar's `k` blendshapes (its
 //! morph targets grouped by name across meshes, [`avatar_blendshapes`]) at
-//! the `F` face vertices. All 52 right-hand sides share one `k × k` Cholesky
-//! factorization. `M B_j` is the mask's displacement carried into the
-//! avatar's frame by the registration's similarity (`s R δ`, then `M`).
+//! the `F` face vertices. All 52 right-hand sides share one `k × k`
+//! Cholesky factorization. `M B_j` is the mask's displacement carried into
+//! the avatar's frame by the registration's similarity (`s R δ`, then `M`).
 //!
-//! **μ.** The paper leaves μ open, and one μ for all targets does not
-//! mean the same for a blink (a few lid vertices) and a jaw opening (half
-//! the face): a μ small against the jaw's `‖B̃_i‖²` damps the blink's weight
-//! by several per cent. So the ridge is taken per target, relative to its
-//! own energy, `μ_i = μ₀ ‖B̃_i‖²` (the diagonal of `GᵀG`), with the
-//! dimensionless [`RELATIVE_RIDGE`] μ₀: Eq. (4) on targets normalized to
-//! unit energy. Both terms are then in the same units (the avatar's
+//! **Why the prior.** With the paper's `μ Σ w̃_i²`, a target the face does
+//! not see (eyeLook rotating an eyeball, tongueOut moving the tongue) gets
+//! weight 0 in every `A_j`, so the retargeted avatar's eyes never turn and
+//! its tongue never comes out; and a target with a tiny footprint on the
+//! face is used at large weights to fit details of `M B_j`, dragging the
+//! eyeballs or the tongue along. Pulling towards `e_j` keeps what the face
+//! cannot tell as the avatar's artist made it, and lets the face data
+//! decide the rest.
+//!
+//! **μ.** `μ = μ₀ · tr(GᵀG) / k` with the dimensionless [`RELATIVE_RIDGE`]
+//! μ₀: both terms of `E_j` are then in the same units (the avatar's
 //! length², summed over its face vertices), so μ₀ means the same on a
-//! centimetre and a metre avatar and at any mesh resolution. A target that
-//! reproduces a shape alone gets the weight `1 / (1 + μ₀)`; combinations of
-//! nearly parallel targets, whose least-squares weights would swing to
-//! large opposite values, are held to what their differences can explain.
+//! centimetre and a metre avatar and at any mesh resolution. A departure
+//! from `e_j` must explain more than `μ₀` of an average target's energy on
+//! the face to be made.
 //!
 //! `A_j = Σ_i w̃_ji B̃_i` over the whole avatar (eyes, teeth, neck included)
 //! is the automatic retargeting; the weights themselves are a product on
@@ -34,14 +40,15 @@
 
 use super::model::Avatar;
 use super::registration::FaceRegistration;
+use super::target_names::{TargetName, parse_target_name};
 use crate::arkit::{BLENDSHAPE_COUNT, Blendshape, Blendshapes};
 use faer::Mat;
 use faer::linalg::solvers::Solve;
 use glam::{DVec3, Vec3};
 use serde::{Deserialize, Serialize};
 
-/// μ₀, the ridge weight of each target relative to its own energy
-/// `‖B̃_i‖²` on the face (module docs).
+/// μ₀, the ridge weight relative to the mean energy `tr(GᵀG) / k` of the
+/// avatar's blendshapes on the face (module docs).
 pub const RELATIVE_RIDGE: f64 = 1e-3;
 
 /// Why no retargeting could be computed.
@@ -105,6 +112,8 @@ pub struct Retargeting {
     pub weights: Vec<Vec<f64>>,
     /// μ₀ (dimensionless; module docs).
     pub relative_ridge: f64,
+    /// μ, in the avatar's length² (summed over the face vertices).
+    pub mu: f64,
     /// Relative residual `‖G w̃_j − M B_j‖ / ‖M B_j‖` per shape (0 where
     /// `M B_j` vanishes).
     pub relative_residual: Vec<f64>,
@@ -206,20 +215,14 @@ pub fn retarget(
     }
     let gram = g.transpose() * &g;
     let k = targets.len();
-    let largest = (0..k).map(|i| gram[(i, i)]).fold(0.0, f64::max);
-    if largest <= 0.0 {
+    let mean = (0..k).map(|i| gram[(i, i)]).sum::<f64>() / k.max(1) as f64;
+    if mean <= 0.0 {
         return Err(RetargetError::NoFaceTargets(k));
     }
+    let mu = RELATIVE_RIDGE * mean;
     let mut system = gram.clone();
     for i in 0..k {
-        // A target that does not move the face keeps weight 0 (its row is
-        // then `μ_i w_i = 0` with a positive μ_i).
-        let energy = gram[(i, i)];
-        system[(i, i)] += if energy > 0.0 {
-            RELATIVE_RIDGE * energy
-        } else {
-            largest
-        };
+        system[(i, i)] += mu;
     }
     let mapped = mapped_shapes(registration, shapes)?;
     let mut rhs = Mat::<f64>::zeros(rows, BLENDSHAPE_COUNT);
@@ -230,7 +233,16 @@ pub fn retarget(
             }
         }
     }
-    let gt_b = g.transpose() * &rhs;
+    let mut gt_b = g.transpose() * &rhs;
+    // The prior: each ARKit shape is the avatar's own target of that name
+    // (both halves of a split one).
+    for (i, blendshape) in targets.iter().enumerate() {
+        let shape = match parse_target_name(&blendshape.name) {
+            TargetName::Arkit(shape) | TargetName::Half(shape, _) => shape,
+            TargetName::Other => continue,
+        };
+        gt_b[(i, shape.index())] += mu;
+    }
     let llt = system
         .llt(faer::Side::Lower)
         .map_err(|_| RetargetError::Singular)?;
@@ -252,6 +264,7 @@ pub fn retarget(
             .map(|j| (0..k).map(|i| w[(i, j)]).collect())
             .collect(),
         relative_ridge: RELATIVE_RIDGE,
+        mu,
         relative_residual,
     })
 }

@@ -316,3 +316,20 @@ fn build_default_avatar() -> DefaultAvatar {
         eye_radius: eyes::EYE_RADIUS as f32,
     }
 }
+
+/// The default avatar's materials, one per mesh in `avatar.meshes` order:
+/// skin for the head, white for the eyeballs, tooth for the teeth, gum pink
+/// for the gums and the tongue.
+pub fn looks(avatar: &Avatar) -> Vec<likeness::avatar::glb::MeshLook> {
+    use likeness::avatar::glb::MeshLook;
+    avatar
+        .meshes
+        .iter()
+        .map(|m| match m.name.as_deref() {
+            Some(n) if n.starts_with("eye") => MeshLook::EYE_WHITE,
+            Some("teeth") => MeshLook::TOOTH,
+            Some("gums") | Some("tongue") => MeshLook::GUM,
+            _ => MeshLook::SKIN,
+        })
+        .collect()
+}

@@ -1,0 +1,343 @@
+//! `likeness avatar`: a session's personalized shapes onto an avatar
+//! (§3.3). This release writes the automatic retargeting `A_j` of Eq. (4)
+//! (the avatar's own blendshapes combined to approximate the person's);
+//! the seamless partial deformation transfer comes next.
+
+use crate::CliResult;
+use crate::info::read_session;
+use likeness::avatar::glb::{
+    GlbAvatar, NewGlbOptions, NewShapes, check_avatar, new_avatar_glb, read_avatar,
+    read_avatar_bytes, write_avatar,
+};
+use likeness::avatar::registration::cache;
+use likeness::avatar::registration::find_face::{FaceRegistration, cache_key, find_face};
+use likeness::avatar::retargeting::{Retargeting, retarget};
+use likeness::io::atomic_write::write_atomically;
+use likeness::personalize::{Method, personalize};
+use likeness::{Blendshape, Blendshapes, Session};
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// What `likeness avatar` was asked to do.
+pub struct AvatarArgs {
+    /// The session file.
+    pub session: PathBuf,
+    /// The avatar, or the default one.
+    pub avatar: Option<PathBuf>,
+    /// Where to write the avatar GLB.
+    pub out: PathBuf,
+    /// The personalization method.
+    pub method: Method,
+    /// Where to write the 52 × k retarget map, if asked.
+    pub retarget_map: Option<PathBuf>,
+    /// Where registrations are cached.
+    pub cache_dir: Option<PathBuf>,
+    /// Print JSON instead of text.
+    pub json: bool,
+}
+
+/// The summary `--json` prints.
+#[derive(Serialize)]
+struct Summary {
+    avatar: String,
+    out: String,
+    /// What the shapes in `out` are.
+    shapes: &'static str,
+    method: String,
+    vertices: usize,
+    morph_targets: usize,
+    arkit_found: usize,
+    arkit_missing: Vec<&'static str>,
+    face_vertices: usize,
+    registration_residual_mean_mm: f64,
+    registration_residual_max_mm: f64,
+    registration_cached: bool,
+    registration_seconds: f64,
+    retarget_weight_min: f64,
+    retarget_weight_max: f64,
+    retarget_weights_outside_unit_range: usize,
+    retarget_worst_relative_residual: f64,
+    seconds: Timings,
+    out_bytes: u64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    retarget_map: Option<String>,
+}
+
+#[derive(Serialize, Default)]
+struct Timings {
+    read_session: f64,
+    personalize: f64,
+    read_avatar: f64,
+    registration: f64,
+    retargeting: f64,
+    write: f64,
+}
+
+/// The generic ARKit template of `session` as blendshapes (the mask the
+/// face is found with).
+fn template_rig(session: &Session) -> Result<Blendshapes, Box<dyn std::error::Error>> {
+    let neutral: Vec<glam::DVec3> = session
+        .template
+        .neutral
+        .iter()
+        .map(|p| p.as_dvec3())
+        .collect();
+    let deltas = session
+        .template
+        .shapes
+        .iter()
+        .map(|s| {
+            s.iter()
+                .zip(&neutral)
+                .map(|(p, n)| p.as_dvec3() - *n)
+                .collect()
+        })
+        .collect();
+    Ok(Blendshapes::new(neutral, deltas)?)
+}
+
+/// The default avatar as a GLB read back (so it takes the same path as a
+/// user's file).
+fn default_glb() -> Result<GlbAvatar, Box<dyn std::error::Error>> {
+    let built = likeness_sim::default_avatar::default_avatar();
+    let options = NewGlbOptions {
+        looks: likeness_sim::default_avatar::looks(&built.avatar),
+        ..NewGlbOptions::default()
+    };
+    let bytes = new_avatar_glb(&built.avatar, &options, Path::new("default-avatar.glb"))?;
+    Ok(read_avatar_bytes(&bytes, "default avatar")?)
+}
+
+/// Where registrations are cached unless `--cache-dir` says otherwise:
+/// `$XDG_CACHE_HOME/likeness`, else `~/.cache/likeness`, else a folder in
+/// the system's temporary directory.
+fn default_cache_dir() -> PathBuf {
+    std::env::var_os("XDG_CACHE_HOME")
+        .map(PathBuf::from)
+        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache")))
+        .unwrap_or_else(std::env::temp_dir)
+        .join("likeness")
+}
+
+/// Runs `likeness avatar`.
+pub fn avatar_command(args: &AvatarArgs) -> CliResult {
+    let mut t = Timings::default();
+    let steps = crate::progress::bar("avatar", 5);
+    let clock = Instant::now();
+    let session = read_session(&args.session)?;
+    t.read_session = clock.elapsed().as_secs_f64();
+    steps.inc(1);
+
+    let clock = Instant::now();
+    let personalized = personalize(&session, args.method)?;
+    t.personalize = clock.elapsed().as_secs_f64();
+    steps.inc(1);
+
+    let clock = Instant::now();
+    let glb = match &args.avatar {
+        Some(path) => read_avatar(path)?,
+        None => default_glb()?,
+    };
+    let found = check_avatar(&glb)?;
+    let avatar = &glb.avatar;
+    t.read_avatar = clock.elapsed().as_secs_f64();
+    steps.inc(1);
+
+    let clock = Instant::now();
+    let rig = template_rig(&session)?;
+    let dir = args.cache_dir.clone().unwrap_or_else(default_cache_dir);
+    let key = cache_key(avatar, &rig);
+    let (registration, cached): (FaceRegistration, bool) = match cache::load(&dir, &key) {
+        Some(r) => (r, true),
+        None => {
+            let r = find_face(avatar, &session.topology, &rig)
+                .map_err(|e| format!("{}: {e}", glb.file.display()))?;
+            if let Err(e) = cache::store(&dir, &key, &r) {
+                eprintln!(
+                    "note: the registration could not be cached in {}: {e}",
+                    dir.display()
+                );
+            }
+            (r, false)
+        }
+    };
+    t.registration = clock.elapsed().as_secs_f64();
+    steps.inc(1);
+
+    let clock = Instant::now();
+    let retargeting = retarget(avatar, &registration, &personalized.shapes)?;
+    t.retargeting = clock.elapsed().as_secs_f64();
+
+    let clock = Instant::now();
+    let offsets = avatar.vertex_offsets();
+    let mut shapes = NewShapes::new();
+    for shape in Blendshape::ALL {
+        let all = retargeting.displacement(avatar, shape);
+        let per_part = avatar
+            .parts
+            .iter()
+            .enumerate()
+            .map(|(i, _)| all[offsets[i]..offsets[i + 1]].to_vec())
+            .collect();
+        shapes.set(shape, per_part);
+    }
+    write_avatar(&glb, &shapes, &args.out)?;
+    if let Some(map) = &args.retarget_map {
+        write_retarget_map(map, &glb, &retargeting)?;
+    }
+    t.write = clock.elapsed().as_secs_f64();
+    steps.finish_and_clear();
+
+    let (lo, hi) = retargeting.weight_range();
+    let summary = Summary {
+        avatar: args
+            .avatar
+            .as_ref()
+            .map_or("default avatar".to_string(), |p| p.display().to_string()),
+        out: args.out.display().to_string(),
+        shapes: "automatic retargeting (Eq. 4): the avatar's own blendshapes combined",
+        method: args.method.to_string(),
+        vertices: avatar.vertex_count(),
+        morph_targets: retargeting.targets.len(),
+        arkit_found: found.found(),
+        arkit_missing: found.missing().iter().map(|b| b.name()).collect(),
+        face_vertices: registration.map.face.len(),
+        registration_residual_mean_mm: registration.residual_mean_mm,
+        registration_residual_max_mm: registration.residual_max_mm,
+        registration_cached: cached,
+        registration_seconds: registration.seconds,
+        retarget_weight_min: lo,
+        retarget_weight_max: hi,
+        retarget_weights_outside_unit_range: retargeting.outside_unit_range(),
+        retarget_worst_relative_residual: retargeting
+            .relative_residual
+            .iter()
+            .copied()
+            .fold(0.0, f64::max),
+        seconds: t,
+        out_bytes: std::fs::metadata(&args.out).map_or(0, |m| m.len()),
+        retarget_map: args.retarget_map.as_ref().map(|p| p.display().to_string()),
+    };
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&summary)?);
+    } else {
+        print_summary(&summary);
+    }
+    Ok(())
+}
+
+fn print_summary(s: &Summary) {
+    println!(
+        "Avatar: {} ({} vertices, {} morph targets)",
+        s.avatar, s.vertices, s.morph_targets
+    );
+    println!(
+        "ARKit shapes on the avatar: {} of 52{}",
+        s.arkit_found,
+        if s.arkit_missing.is_empty() {
+            String::new()
+        } else {
+            format!(" (missing: {})", s.arkit_missing.join(", "))
+        }
+    );
+    println!(
+        "Face found: {} face vertices, registration residual mean {:.3} mm, max {:.3} mm{}",
+        s.face_vertices,
+        s.registration_residual_mean_mm,
+        s.registration_residual_max_mm,
+        if s.registration_cached {
+            " (cached)".to_string()
+        } else {
+            format!(" ({:.2} s)", s.registration_seconds)
+        }
+    );
+    println!(
+        "Retargeting (Eq. 4): weights {:.3} … {:.3}, {} outside [0, 1]; worst relative residual {:.3}",
+        s.retarget_weight_min,
+        s.retarget_weight_max,
+        s.retarget_weights_outside_unit_range,
+        s.retarget_worst_relative_residual
+    );
+    println!(
+        "Wrote {} ({:.1} MB): {}",
+        s.out,
+        s.out_bytes as f64 / 1e6,
+        s.shapes
+    );
+    if let Some(map) = &s.retarget_map {
+        println!("Wrote the retarget map {map}");
+    }
+    let t = &s.seconds;
+    println!(
+        "Time: session {:.2} s, personalize ({}) {:.2} s, avatar {:.2} s, registration {:.2} s, retargeting {:.3} s, write {:.2} s",
+        t.read_session,
+        s.method,
+        t.personalize,
+        t.read_avatar,
+        t.registration,
+        t.retargeting,
+        t.write
+    );
+}
+
+/// The retarget map's file format (README "The retarget map").
+#[derive(Serialize)]
+struct RetargetMapFile<'a> {
+    format: &'static str,
+    version: u32,
+    avatar: String,
+    usage: &'static str,
+    relative_ridge: f64,
+    arkit: Vec<&'static str>,
+    targets: Vec<MapTarget<'a>>,
+    weights: &'a [Vec<f64>],
+}
+
+/// One of the avatar's blendshapes in the map: its name and the morph
+/// targets that carry it.
+#[derive(Serialize)]
+struct MapTarget<'a> {
+    name: &'a str,
+    morph_targets: Vec<MapMorphTarget<'a>>,
+}
+
+#[derive(Serialize)]
+struct MapMorphTarget<'a> {
+    mesh: usize,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    mesh_name: Option<&'a str>,
+    index: usize,
+}
+
+/// Writes the 52 × k weights as JSON (atomically).
+fn write_retarget_map(path: &Path, glb: &GlbAvatar, r: &Retargeting) -> CliResult {
+    let file = RetargetMapFile {
+        format: "likeness-retarget-map",
+        version: 1,
+        avatar: glb.file.display().to_string(),
+        usage: "weight of the avatar's blendshape targets[i] = sum over ARKit shapes j of weights[j][i] * ARKit weight j",
+        relative_ridge: r.relative_ridge,
+        arkit: Blendshape::ALL.iter().map(|b| b.name()).collect(),
+        targets: r
+            .targets
+            .iter()
+            .map(|t| MapTarget {
+                name: &t.name,
+                morph_targets: t
+                    .targets
+                    .iter()
+                    .map(|&(mesh, index)| MapMorphTarget {
+                        mesh,
+                        mesh_name: glb.avatar.meshes.get(mesh).and_then(|m| m.name.as_deref()),
+                        index,
+                    })
+                    .collect(),
+            })
+            .collect(),
+        weights: &r.weights,
+    };
+    let text = serde_json::to_string_pretty(&file)?;
+    write_atomically(path, text.as_bytes()).map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok(())
+}

@@ -97,16 +97,70 @@ fn template_rig(session: &Session) -> Result<Blendshapes, Box<dyn std::error::Er
     Ok(Blendshapes::new(neutral, deltas)?)
 }
 
-/// The default avatar as a GLB read back (so it takes the same path as a
-/// user's file).
-fn default_glb() -> Result<GlbAvatar, Box<dyn std::error::Error>> {
+/// The default avatar as GLB bytes.
+fn default_glb_bytes(name: &Path) -> Result<Vec<u8>, Box<dyn std::error::Error>> {
     let built = likeness_sim::default_avatar::default_avatar();
     let options = NewGlbOptions {
         looks: likeness_sim::default_avatar::looks(&built.avatar),
         ..NewGlbOptions::default()
     };
-    let bytes = new_avatar_glb(&built.avatar, &options, Path::new("default-avatar.glb"))?;
+    Ok(new_avatar_glb(&built.avatar, &options, name)?)
+}
+
+/// The default avatar as a GLB read back (so it takes the same path as a
+/// user's file).
+fn default_glb() -> Result<GlbAvatar, Box<dyn std::error::Error>> {
+    let bytes = default_glb_bytes(Path::new("default-avatar.glb"))?;
     Ok(read_avatar_bytes(&bytes, "default avatar")?)
+}
+
+/// The avatar step of `likeness demo`: the session's personalized shapes
+/// (`method`) onto the default avatar, summarized; nothing is written.
+pub fn demo_avatar(session: &Session, method: Method) -> CliResult {
+    let started = Instant::now();
+    let personalized = personalize(session, method)?;
+    let glb = default_glb()?;
+    let rig = template_rig(session)?;
+    let registration = find_face(&glb.avatar, &session.topology, &rig)?;
+    let retargeting = retarget(&glb.avatar, &registration, &personalized.shapes)?;
+    let (lo, hi) = retargeting.weight_range();
+    println!(
+        "Default avatar: {} vertices in {} meshes; face found on {} of them, registration residual mean {:.3} mm, max {:.3} mm ({:.2} s)",
+        glb.avatar.vertex_count(),
+        glb.avatar.meshes.len(),
+        registration.map.face.len(),
+        registration.residual_mean_mm,
+        registration.residual_max_mm,
+        registration.seconds
+    );
+    println!(
+        "Automatic retargeting, Eq. (4), {method}: weights {lo:.2} … {hi:.2}, {} of {} outside [0, 1] ({:.2} s in all)",
+        retargeting.outside_unit_range(),
+        retargeting.weights.len() * retargeting.targets.len(),
+        started.elapsed().as_secs_f64()
+    );
+    println!(
+        "`likeness avatar SESSION --out avatar.glb` writes it; `likeness default-avatar --out FILE` the avatar itself."
+    );
+    Ok(())
+}
+
+/// `likeness default-avatar --out FILE`: writes the project's own default
+/// avatar (with its 52 generic ARKit shapes) as GLB.
+pub fn default_avatar_command(out: &Path) -> CliResult {
+    let started = Instant::now();
+    let bytes = default_glb_bytes(out)?;
+    write_atomically(out, &bytes).map_err(|e| format!("{}: {e}", out.display()))?;
+    let built = likeness_sim::default_avatar::default_avatar();
+    println!(
+        "Wrote {} ({:.1} MB): the default avatar, {} vertices in {} meshes, 52 ARKit shapes ({:.2} s)",
+        out.display(),
+        bytes.len() as f64 / 1e6,
+        built.avatar.vertex_count(),
+        built.avatar.meshes.len(),
+        started.elapsed().as_secs_f64()
+    );
+    Ok(())
 }
 
 /// Where registrations are cached unless `--cache-dir` says otherwise:

@@ -121,6 +121,13 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Write the project's own default avatar (head, eyes, teeth, tongue;
+    /// its 52 generic ARKit shapes) as GLB.
+    DefaultAvatar {
+        /// The GLB to write.
+        #[arg(long)]
+        out: PathBuf,
+    },
     /// Print a summary of a session file.
     Info {
         /// The session file.
@@ -144,6 +151,7 @@ fn main() -> ExitCode {
             geometry_window,
         } => simulate::simulate(seed, geometry_window, &out),
         Command::Info { file, json } => info::info(&file, json),
+        Command::DefaultAvatar { out } => avatar::default_avatar_command(&out),
         Command::Avatar {
             session,
             avatar,

@@ -1,0 +1,122 @@
+//! `likeness avatar` and `likeness default-avatar` as a person uses them:
+//! a session and an avatar in, a GLB (and the retarget map) out, a summary,
+//! the registration cached, and clear errors on a bad avatar file.
+
+use likeness::Blendshape;
+use likeness::avatar::glb::{check_avatar, read_avatar};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn likeness(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_likeness"))
+        .args(args)
+        .output()
+        .expect("the likeness binary runs")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir =
+        std::env::temp_dir().join(format!("likeness-cli-avatar-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("a scratch folder");
+    dir
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+fn s(p: &Path) -> String {
+    p.display().to_string()
+}
+
+#[test]
+fn a_session_onto_a_user_avatar_gives_a_glb_a_map_and_a_summary() {
+    let dir = scratch("user");
+    let avatar = dir.join("avatar.glb");
+    let out = likeness(&["default-avatar", "--out", &s(&avatar)]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(text(&out.stdout).contains("52 ARKit shapes"));
+
+    let session = likeness_tests::committed::path(1);
+    let (glb, map, cache) = (dir.join("out.glb"), dir.join("map.json"), dir.join("cache"));
+    let args = [
+        "avatar",
+        &s(&session),
+        "--avatar",
+        &s(&avatar),
+        "--out",
+        &s(&glb),
+        "--retarget-map",
+        &s(&map),
+        "--cache-dir",
+        &s(&cache),
+        "--json",
+    ];
+    let first = likeness(&args);
+    assert!(first.status.success(), "{}", text(&first.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&first.stdout).expect("JSON");
+    assert_eq!(v["arkit_found"], 52);
+    assert_eq!(v["registration_cached"], false);
+    assert!(v["face_vertices"].as_u64().unwrap() > 5000, "{v}");
+    assert!(
+        v["registration_residual_mean_mm"].as_f64().unwrap() < 0.1,
+        "{v}"
+    );
+    assert!(
+        v["shapes"]
+            .as_str()
+            .unwrap()
+            .contains("automatic retargeting")
+    );
+
+    // The GLB reads back with all 52 shapes in ARKit's spelling.
+    let written = read_avatar(&glb).expect("the written GLB reads");
+    let found = check_avatar(&written).expect("an avatar");
+    assert_eq!(found.found(), 52);
+    let head = &written.avatar.meshes[0];
+    for shape in Blendshape::ALL {
+        assert!(
+            head.target_names.iter().any(|n| n == shape.name()),
+            "{shape}"
+        );
+    }
+
+    // The map: 52 rows of k weights, in the documented format.
+    let m: serde_json::Value = serde_json::from_slice(&std::fs::read(&map).unwrap()).unwrap();
+    assert_eq!(m["format"], "likeness-retarget-map");
+    assert_eq!(m["version"], 1);
+    let k = m["targets"].as_array().unwrap().len();
+    assert_eq!(m["arkit"].as_array().unwrap().len(), 52);
+    let rows = m["weights"].as_array().unwrap();
+    assert_eq!(rows.len(), 52);
+    assert!(rows.iter().all(|r| r.as_array().unwrap().len() == k));
+
+    // The second run finds the registration in the cache.
+    let second = likeness(&args);
+    assert!(second.status.success(), "{}", text(&second.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&second.stdout).unwrap();
+    assert_eq!(v["registration_cached"], true);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_file_that_is_not_an_avatar_is_a_clear_error() {
+    let dir = scratch("bad");
+    let bad = dir.join("notes.glb");
+    std::fs::write(&bad, b"these are not the bytes of a glTF file").unwrap();
+    let session = likeness_tests::committed::path(1);
+    let out = likeness(&[
+        "avatar",
+        &s(&session),
+        "--avatar",
+        &s(&bad),
+        "--out",
+        &s(&dir.join("out.glb")),
+    ]);
+    assert!(!out.status.success());
+    let err = text(&out.stderr);
+    assert!(err.contains("notes.glb"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(!dir.join("out.glb").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

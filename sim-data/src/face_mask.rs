@@ -209,6 +209,9 @@ fn spacing(p: [f64; 2]) -> f64 {
     0.0033 + (0.0065 - 0.0033) * smoothstep(0.0, 0.035, d)
 }
 
+/// A kept point and its clearance radius.
+type KeptPoint = ([f64; 2], f64);
+
 struct Domain {
     boundary: Vec<[f64; 2]>,
     polygons: Vec<Vec<[f64; 2]>>,
@@ -244,7 +247,7 @@ impl Domain {
     fn scatter(&self, candidates: &[[f64; 2]], clearance: &[f64], scale: f64) -> Vec<[f64; 2]> {
         let cell = 0.0065 * scale * 1.001;
         let key = |p: [f64; 2]| ((p[0] / cell).floor() as i64, (p[1] / cell).floor() as i64);
-        let mut grid: std::collections::HashMap<(i64, i64), Vec<([f64; 2], f64)>> =
+        let mut grid: std::collections::HashMap<(i64, i64), Vec<KeptPoint>> =
             std::collections::HashMap::new();
         let mut accepted: Vec<[f64; 2]> = Vec::new();
         for (&p, &to_boundary) in candidates.iter().zip(clearance) {

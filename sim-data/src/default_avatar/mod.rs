@@ -12,7 +12,7 @@
 //! | face skin | [`face`] | mask's parameter plane resampled (1.7 mm hex grid), each vertex at a barycentric point of a mask triangle |
 //! | head, neck, shoulders | [`head`] | star-shaped implicit surface about `head::CENTRE`, rings 4.5 mm apart, joined to the face's outline |
 //! | ears | [`ears`] | pressed ellipsoid shells, roots sunk into the head |
-//! | eyeballs | [`eyes`] | 24 mm globe with an 11.5 mm cornea bulging 2.5 mm, placed as far forward as the lids allow |
+//! | eyeballs, sockets | [`eyes`] | 24 mm globe with an 11.5 mm cornea bulging 2.5 mm, placed as far forward as the lids allow; a 29 mm bowl behind each |
 //! | teeth, gums, tongue | [`mouth`] | 14 rounded-box crowns per jaw on a parabolic arch, tube gums, flattened ellipsoid tongue |
 //! | blendshapes | [`shapes`] | template interpolated on the face, continued past the outline; jaw, gaze and tongue motions |
 //!
@@ -44,7 +44,7 @@ pub const LID_CLEARANCE: f64 = 0.0004;
 /// The default avatar and what is known about it by construction.
 #[derive(Clone, Debug)]
 pub struct DefaultAvatar {
-    /// The avatar: meshes `head` (parts `skin`, `ears`), `eyeLeft`,
+    /// The avatar: meshes `head` (parts `skin`, `ears`, `sockets`), `eyeLeft`,
     /// `eyeRight`, `teeth` (`teethUpper`, `teethLower`), `gums`
     /// (`gumsUpper`, `gumsLower`), `tongue`.
     pub avatar: Avatar,
@@ -62,6 +62,8 @@ pub struct DefaultAvatar {
     pub ears: usize,
     /// Indices of the eyeball parts, `[left, right]`.
     pub eyes: [usize; 2],
+    /// Index of the eye sockets' lining (in the head mesh, both sides).
+    pub sockets: usize,
     /// Indices of the teeth parts, `[upper, lower]`.
     pub teeth: [usize; 2],
     /// Indices of the gum parts, `[upper, lower]`.
@@ -237,6 +239,7 @@ fn build_default_avatar() -> DefaultAvatar {
     let ear_targets = vec![vec![DVec3::ZERO; ear_mesh.0.len()]; all.len()];
     parts.push(part("ears", 0, 1, &ear_mesh, ear_targets));
     let mut eye_centres = [Vec3::ZERO; 2];
+    let mut eye_parts = Vec::new();
     for (side, slot) in eye_centres.iter_mut().enumerate() {
         let x = if side == 0 { 1.0 } else { -1.0 } * EYE_CENTRE[0];
         let centre = DVec3::new(x, EYE_CENTRE[1], eye_depth(side, &face, &face_t));
@@ -247,8 +250,21 @@ fn build_default_avatar() -> DefaultAvatar {
             .map(|s| shapes::rotate_about(&ball.0, centre, shape_rotation(side, *s)))
             .collect();
         let name = if side == 0 { "eyeLeft" } else { "eyeRight" };
-        parts.push(part(name, 1 + side, 0, &ball, targets));
+        eye_parts.push(part(name, 1 + side, 0, &ball, targets));
     }
+    let sockets = {
+        let mut m: mouth::Mesh = (Vec::new(), Vec::new());
+        for c in eye_centres {
+            let e = eyes::socket(c.as_dvec3());
+            let o = m.0.len() as u32;
+            m.0.extend(e.0);
+            m.1.extend(e.1.into_iter().map(|t| t.map(|i| i + o)));
+        }
+        m
+    };
+    let socket_targets = vec![vec![DVec3::ZERO; sockets.0.len()]; all.len()];
+    parts.push(part("sockets", 0, 2, &sockets, socket_targets));
+    parts.extend(eye_parts);
     // Mouth.
     let jaw_shapes = shapes_where(|s| shapes::jaw_motion(s).is_some());
     for (k, (name, upper)) in [("teethUpper", true), ("teethLower", false)]
@@ -308,10 +324,11 @@ fn build_default_avatar() -> DefaultAvatar {
         neck_bottom: head.bottom.iter().map(|&i| remap(i)).collect(),
         skin: 0,
         ears: 1,
-        eyes: [2, 3],
-        teeth: [4, 5],
-        gums: [6, 7],
-        tongue: 8,
+        sockets: 2,
+        eyes: [3, 4],
+        teeth: [5, 6],
+        gums: [7, 8],
+        tongue: 9,
         eye_centres,
         eye_radius: eyes::EYE_RADIUS as f32,
     }

@@ -312,6 +312,33 @@ fn default_avatar_blink_closes_over_the_eyeball_without_entering_it() {
 }
 
 #[test]
+fn default_avatar_sockets_lie_behind_the_skin_around_the_eyeballs() {
+    let a = avatar();
+    let skin = &a.avatar.parts[a.skin];
+    let sockets = &a.avatar.parts[a.sockets];
+    for c in a.eye_centres {
+        let c = c.as_dvec3();
+        // The eyeball, turned any way, stays inside the lining.
+        let reach = eyes::cornea_offset() + eyes::cornea_radius();
+        assert!(reach < eyes::SOCKET_RADIUS);
+        // No skin vertex lies behind the lining's opening inside its sphere.
+        for p in &skin.positions {
+            let d = p.as_dvec3() - c;
+            let theta = d.angle_between(DVec3::Z);
+            if theta >= eyes::SOCKET_OPENING {
+                assert!(d.length() > eyes::SOCKET_RADIUS, "skin {p:?} in the socket");
+            }
+        }
+        assert!(
+            sockets
+                .positions
+                .iter()
+                .any(|p| p.as_dvec3().distance(c) < 0.0146)
+        );
+    }
+}
+
+#[test]
 fn default_avatar_eyeballs_sit_behind_the_open_lids() {
     let a = avatar();
     let skin = &a.avatar.parts[a.skin];

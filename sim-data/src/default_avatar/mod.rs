@@ -46,7 +46,10 @@ pub const LID_CLEARANCE: f64 = 0.0004;
 pub struct DefaultAvatar {
     /// The avatar: meshes `head` (parts `skin`, `ears`, `sockets`), `eyeLeft`,
     /// `eyeRight`, `teeth` (`teethUpper`, `teethLower`), `gums`
-    /// (`gumsUpper`, `gumsLower`), `tongue`.
+    /// (`gumsUpper`, `gumsLower`), `tongue`. Every mesh carries all 52 ARKit
+    /// targets in Apple's order (as Ready Player Me's avatars do), zero
+    /// where a shape does not move it, so `targets[shape.index()]` is
+    /// always that shape.
     pub avatar: Avatar,
     /// For skin vertex `v < true_correspondence.len()`, the point of the
     /// mask it lies on (mask triangle and barycentric coordinates). The
@@ -86,6 +89,15 @@ pub fn default_avatar() -> &'static DefaultAvatar {
 /// The shapes that move a part, in ARKit's order.
 fn shapes_where(keep: impl Fn(Blendshape) -> bool) -> Vec<Blendshape> {
     Blendshape::ALL.into_iter().filter(|s| keep(*s)).collect()
+}
+
+/// One displacement field per ARKit shape, in Apple's order: `moves(s)`
+/// or zero.
+fn every_shape(n: usize, moves: impl Fn(Blendshape) -> Option<Vec<DVec3>>) -> Vec<Vec<DVec3>> {
+    Blendshape::ALL
+        .iter()
+        .map(|&s| moves(s).unwrap_or_else(|| vec![DVec3::ZERO; n]))
+        .collect()
 }
 
 fn eye_shapes(side: usize) -> Vec<Blendshape> {
@@ -245,10 +257,11 @@ fn build_default_avatar() -> DefaultAvatar {
         let centre = DVec3::new(x, EYE_CENTRE[1], eye_depth(side, &face, &face_t));
         *slot = centre.as_vec3();
         let ball = eyes::eyeball(centre);
-        let targets = eye_shapes(side)
-            .iter()
-            .map(|s| shapes::rotate_about(&ball.0, centre, shape_rotation(side, *s)))
-            .collect();
+        let own = eye_shapes(side);
+        let targets = every_shape(ball.0.len(), |s| {
+            own.contains(&s)
+                .then(|| shapes::rotate_about(&ball.0, centre, shape_rotation(side, s)))
+        });
         let name = if side == 0 { "eyeLeft" } else { "eyeRight" };
         eye_parts.push(part(name, 1 + side, 0, &ball, targets));
     }
@@ -262,61 +275,35 @@ fn build_default_avatar() -> DefaultAvatar {
         }
         m
     };
-    let socket_targets = vec![vec![DVec3::ZERO; sockets.0.len()]; all.len()];
+    let socket_targets = every_shape(sockets.0.len(), |_| None);
     parts.push(part("sockets", 0, 2, &sockets, socket_targets));
     parts.extend(eye_parts);
-    // Mouth.
-    let jaw_shapes = shapes_where(|s| shapes::jaw_motion(s).is_some());
-    for (k, (name, upper)) in [("teethUpper", true), ("teethLower", false)]
-        .into_iter()
-        .enumerate()
-    {
-        let g = mouth::teeth(upper);
-        let t = if upper {
-            vec![vec![DVec3::ZERO; g.0.len()]; jaw_shapes.len()]
+    // Mouth: the upper row stays with the skull, the lower follows the jaw.
+    let rows = [
+        ("teethUpper", 3, 0, mouth::teeth(true)),
+        ("teethLower", 3, 1, mouth::teeth(false)),
+        ("gumsUpper", 4, 0, mouth::gums(true)),
+        ("gumsLower", 4, 1, mouth::gums(false)),
+    ];
+    for (name, mesh, primitive, g) in rows {
+        let t = if primitive == 0 {
+            every_shape(g.0.len(), |_| None)
         } else {
-            shapes::jaw_part_targets(&g.0, &jaw_shapes)
+            shapes::jaw_part_targets(&g.0, &all)
         };
-        parts.push(part(name, 3, k, &g, t));
+        parts.push(part(name, mesh, primitive, &g, t));
     }
-    for (k, (name, upper)) in [("gumsUpper", true), ("gumsLower", false)]
-        .into_iter()
-        .enumerate()
-    {
-        let g = mouth::gums(upper);
-        let t = if upper {
-            vec![vec![DVec3::ZERO; g.0.len()]; jaw_shapes.len()]
-        } else {
-            shapes::jaw_part_targets(&g.0, &jaw_shapes)
-        };
-        parts.push(part(name, 4, k, &g, t));
-    }
-    let tongue_shapes =
-        shapes_where(|s| shapes::jaw_motion(s).is_some() || s == Blendshape::TongueOut);
     let tg = mouth::tongue();
     let (back, tip) = (
         mouth::TONGUE_CENTRE.z - mouth::TONGUE_RADII.z,
         mouth::TONGUE_CENTRE.z + mouth::TONGUE_RADII.z,
     );
-    let tongue_t = tongue_shapes
-        .iter()
-        .map(|&s| {
-            if s == Blendshape::TongueOut {
-                shapes::tongue_out(&tg.0, 0.0, back, tip)
-            } else {
-                shapes::jaw_part_targets(&tg.0, &[s]).remove(0)
-            }
-        })
-        .collect();
+    let mut tongue_t = shapes::jaw_part_targets(&tg.0, &all);
+    tongue_t[Blendshape::TongueOut.index()] = shapes::tongue_out(&tg.0, 0.0, back, tip);
     parts.push(part("tongue", 5, 0, &tg, tongue_t));
-    let meshes = vec![
-        mesh("head", &all),
-        mesh("eyeLeft", &eye_shapes(0)),
-        mesh("eyeRight", &eye_shapes(1)),
-        mesh("teeth", &jaw_shapes),
-        mesh("gums", &jaw_shapes),
-        mesh("tongue", &tongue_shapes),
-    ];
+    let meshes = ["head", "eyeLeft", "eyeRight", "teeth", "gums", "tongue"]
+        .map(|name| mesh(name, &all))
+        .to_vec();
     DefaultAvatar {
         avatar: Avatar { meshes, parts },
         true_correspondence: face.on_mask.clone(),

@@ -189,9 +189,10 @@ fn default_avatar_has_all_52_arkit_targets() {
         assert!(names.contains(s.name()), "{} missing", s.name());
     }
     assert_eq!(names.len(), 52);
-    let head = &a.avatar.meshes[0];
     let expected: Vec<&str> = Blendshape::ALL.iter().map(|s| s.name()).collect();
-    assert_eq!(head.target_names, expected);
+    for m in &a.avatar.meshes {
+        assert_eq!(m.target_names, expected);
+    }
     for p in &a.avatar.parts {
         assert_eq!(p.targets.len(), a.avatar.meshes[p.mesh].target_names.len());
         assert!(p.targets.iter().all(|t| t.len() == p.positions.len()));

@@ -13,7 +13,7 @@
 //! | head, neck, shoulders | [`head`] | star-shaped implicit surface about `head::CENTRE`, rings 4.5 mm apart, joined to the face's outline |
 //! | ears | [`ears`] | pressed ellipsoid shells, roots sunk into the head |
 //! | eyeballs, sockets | [`eyes`] | 24 mm globe with an 11.5 mm cornea bulging 2.5 mm, placed as far forward as the lids allow; a 29 mm bowl behind each |
-//! | teeth, gums, tongue | [`mouth`] | 14 rounded-box crowns per jaw on a parabolic arch, tube gums, flattened ellipsoid tongue |
+//! | teeth, gums, tongue, mouth lining | [`mouth`] | 14 rounded-box crowns per jaw on a parabolic arch, tube gums, flattened ellipsoid tongue, an ellipsoid lining open towards the lips |
 //! | blendshapes | [`shapes`] | template interpolated on the face, continued past the outline; jaw, gaze and tongue motions |
 //!
 //! Coordinates are ARKit's face-anchor space in metres: +x the person's
@@ -44,7 +44,8 @@ pub const LID_CLEARANCE: f64 = 0.0004;
 /// The default avatar and what is known about it by construction.
 #[derive(Clone, Debug)]
 pub struct DefaultAvatar {
-    /// The avatar: meshes `head` (parts `skin`, `ears`, `sockets`), `eyeLeft`,
+    /// The avatar: meshes `head` (parts `skin`, `ears`, `sockets`,
+    /// `mouthCavity`), `eyeLeft`,
     /// `eyeRight`, `teeth` (`teethUpper`, `teethLower`), `gums`
     /// (`gumsUpper`, `gumsLower`), `tongue`. Every mesh carries all 52 ARKit
     /// targets in Apple's order (as Ready Player Me's avatars do), zero
@@ -67,6 +68,8 @@ pub struct DefaultAvatar {
     pub eyes: [usize; 2],
     /// Index of the eye sockets' lining (in the head mesh, both sides).
     pub sockets: usize,
+    /// Index of the mouth's lining (in the head mesh).
+    pub mouth_cavity: usize,
     /// Indices of the teeth parts, `[upper, lower]`.
     pub teeth: [usize; 2],
     /// Indices of the gum parts, `[upper, lower]`.
@@ -277,6 +280,17 @@ fn build_default_avatar() -> DefaultAvatar {
     };
     let socket_targets = every_shape(sockets.0.len(), |_| None);
     parts.push(part("sockets", 0, 2, &sockets, socket_targets));
+    let cavity = mouth::cavity();
+    let cavity_targets: Vec<Vec<DVec3>> = shapes::jaw_part_targets(&cavity.0, &all)
+        .into_iter()
+        .map(|t| {
+            t.iter()
+                .zip(&cavity.0)
+                .map(|(d, p)| mouth::cavity_jaw_weight(*p) * *d)
+                .collect()
+        })
+        .collect();
+    parts.push(part("mouthCavity", 0, 3, &cavity, cavity_targets));
     parts.extend(eye_parts);
     // Mouth: the upper row stays with the skull, the lower follows the jaw.
     let rows = [
@@ -312,10 +326,11 @@ fn build_default_avatar() -> DefaultAvatar {
         skin: 0,
         ears: 1,
         sockets: 2,
-        eyes: [3, 4],
-        teeth: [5, 6],
-        gums: [7, 8],
-        tongue: 9,
+        mouth_cavity: 3,
+        eyes: [4, 5],
+        teeth: [6, 7],
+        gums: [8, 9],
+        tongue: 10,
         eye_centres,
         eye_radius: eyes::EYE_RADIUS as f32,
     }

@@ -340,6 +340,45 @@ fn default_avatar_sockets_lie_behind_the_skin_around_the_eyeballs() {
 }
 
 #[test]
+fn default_avatar_mouth_lining_stays_behind_the_skin_and_around_the_mouth() {
+    let a = avatar();
+    let skin = &a.avatar.parts[a.skin];
+    let lining = &a.avatar.parts[a.mouth_cavity];
+    // Every lining vertex lies behind the skin: the skin vertex nearest to
+    // it in (x, y) is in front of it.
+    for q in &lining.positions {
+        let nearest = skin
+            .positions
+            .iter()
+            .filter(|p| p.z > 0.0)
+            .min_by(|p, r| {
+                let dp = (p.x - q.x).hypot(p.y - q.y);
+                let dr = (r.x - q.x).hypot(r.y - q.y);
+                dp.total_cmp(&dr)
+            })
+            .expect("a face");
+        if (nearest.x - q.x).hypot(nearest.y - q.y) < 0.002 {
+            assert!(
+                nearest.z > q.z + 0.002,
+                "lining {q:?} at the skin {nearest:?}"
+            );
+        }
+    }
+    // Teeth and tongue lie within its ellipsoid (the molars' gums may
+    // touch it).
+    let inside = |p: Vec3| {
+        let q = (p.as_dvec3() - mouth::CAVITY_CENTRE) / mouth::CAVITY_RADII;
+        q.length() < 1.0
+    };
+    for part in [a.teeth[0], a.teeth[1], a.tongue] {
+        let p = &a.avatar.parts[part];
+        let share =
+            p.positions.iter().filter(|x| inside(**x)).count() as f64 / p.positions.len() as f64;
+        assert!(share > 0.9, "{}: {share}", p.name);
+    }
+}
+
+#[test]
 fn default_avatar_eyeballs_sit_behind_the_open_lids() {
     let a = avatar();
     let skin = &a.avatar.parts[a.skin];

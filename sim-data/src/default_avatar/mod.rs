@@ -313,7 +313,8 @@ fn build_default_avatar() -> DefaultAvatar {
         mouth::TONGUE_CENTRE.z + mouth::TONGUE_RADII.z,
     );
     let mut tongue_t = shapes::jaw_part_targets(&tg.0, &all);
-    tongue_t[Blendshape::TongueOut.index()] = shapes::tongue_out(&tg.0, 0.0, back, tip);
+    tongue_t[Blendshape::TongueOut.index()] =
+        shapes::tongue_out(&tg.0, mouth::TONGUE_CENTRE, back, tip);
     parts.push(part("tongue", 5, 0, &tg, tongue_t));
     let meshes = ["head", "eyeLeft", "eyeRight", "teeth", "gums", "tongue"]
         .map(|name| mesh(name, &all))

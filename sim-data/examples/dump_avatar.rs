@@ -5,7 +5,6 @@
 //!
 //! One file per pose, one `o` group per part, named after the part.
 
-use likeness::Blendshape;
 use likeness_sim::default_avatar::default_avatar;
 use std::fmt::Write as _;
 use std::time::Instant;
@@ -16,7 +15,8 @@ fn main() -> std::io::Result<()> {
         .unwrap_or_else(|| "avatar-obj".into());
     std::fs::create_dir_all(&out)?;
     let start = Instant::now();
-    let avatar = &default_avatar().avatar;
+    let dflt = default_avatar();
+    let avatar = &dflt.avatar;
     eprintln!("built in {:.3} s", start.elapsed().as_secs_f64());
     for p in &avatar.parts {
         eprintln!(
@@ -60,13 +60,34 @@ fn main() -> std::io::Result<()> {
             for p in &pos {
                 let _ = writeln!(text, "v {} {} {}", p.x, p.y, p.z);
             }
-            for t in &part.triangles {
-                let _ = writeln!(text, "f {} {} {}", t[0] + base, t[1] + base, t[2] + base);
+            // An eye's cornea (within 32° of its rest axis) goes to its own
+            // group, `<eye>Iris`, so the renders show where it looks.
+            let centre = match part.name.as_str() {
+                "eyeLeft" => Some(dflt.eye_centres[0]),
+                "eyeRight" => Some(dflt.eye_centres[1]),
+                _ => None,
+            };
+            let is_iris = |t: &[u32; 3]| {
+                centre.is_some_and(|c| {
+                    let m = t
+                        .iter()
+                        .map(|&i| part.positions[i as usize])
+                        .sum::<glam::Vec3>()
+                        / 3.0;
+                    (m - c).normalize().z > 32f32.to_radians().cos()
+                })
+            };
+            for iris in [false, true] {
+                if iris {
+                    let _ = writeln!(text, "o {}Iris", part.name);
+                }
+                for t in part.triangles.iter().filter(|t| is_iris(t) == iris) {
+                    let _ = writeln!(text, "f {} {} {}", t[0] + base, t[1] + base, t[2] + base);
+                }
             }
             base += pos.len() as u32;
         }
         std::fs::write(format!("{out}/{pose}.obj"), text)?;
     }
-    let _ = Blendshape::ALL;
     Ok(())
 }

@@ -209,6 +209,9 @@ fn spacing(p: [f64; 2]) -> f64 {
     0.0033 + (0.0065 - 0.0033) * smoothstep(0.0, 0.035, d)
 }
 
+/// A kept point and its clearance radius.
+type KeptPoint = ([f64; 2], f64);
+
 struct Domain {
     boundary: Vec<[f64; 2]>,
     polygons: Vec<Vec<[f64; 2]>>,
@@ -220,18 +223,50 @@ impl Domain {
         inside(&outline[0], p) && !holes.iter().any(|h| inside(h, p))
     }
 
-    /// Dart throwing with a variable radius scaled by `scale`.
-    fn scatter(&self, candidates: &[[f64; 2]], scale: f64) -> Vec<[f64; 2]> {
-        let mut accepted: Vec<[f64; 2]> = Vec::new();
-        for &p in candidates {
-            let r = spacing(p) * scale;
-            let clear_of_boundary = self.boundary.iter().all(|b| dist(*b, p) > 0.75 * r);
-            if clear_of_boundary
-                && accepted
+    /// Each candidate's distance to the nearest boundary point.
+    fn boundary_clearance(&self, candidates: &[[f64; 2]]) -> Vec<f64> {
+        candidates
+            .iter()
+            .map(|p| {
+                self.boundary
                     .iter()
-                    .all(|q| dist(*q, p) > 0.5 * (r + spacing(*q) * scale))
-            {
+                    .map(|b| dist(*b, *p))
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .collect()
+    }
+
+    /// Dart throwing with a variable radius scaled by `scale`: a candidate
+    /// `p` is kept if it is farther than `0.75 r(p)` from the boundary and
+    /// farther than `(r(p) + r(q))/2` from every kept `q`.
+    ///
+    /// Kept points are bucketed on a grid whose cells are wider than the
+    /// largest clearance `0.0065 · scale`, so only the 3 × 3 cells around a
+    /// candidate can hold a point too close to it; the result is the same
+    /// as testing every kept point.
+    fn scatter(&self, candidates: &[[f64; 2]], clearance: &[f64], scale: f64) -> Vec<[f64; 2]> {
+        let cell = 0.0065 * scale * 1.001;
+        let key = |p: [f64; 2]| ((p[0] / cell).floor() as i64, (p[1] / cell).floor() as i64);
+        let mut grid: std::collections::HashMap<(i64, i64), Vec<KeptPoint>> =
+            std::collections::HashMap::new();
+        let mut accepted: Vec<[f64; 2]> = Vec::new();
+        for (&p, &to_boundary) in candidates.iter().zip(clearance) {
+            let r = spacing(p) * scale;
+            if to_boundary <= 0.75 * r {
+                continue;
+            }
+            let (cx, cy) = key(p);
+            let clear = (-1..=1).all(|dx| {
+                (-1..=1).all(|dy| {
+                    grid.get(&(cx + dx, cy + dy))
+                        .is_none_or(|near| near.iter().all(|(q, rq)| dist(*q, p) > 0.5 * (r + rq)))
+                })
+            });
+            if clear {
                 accepted.push(p);
+                grid.entry((cx, cy))
+                    .or_default()
+                    .push((p, spacing(p) * scale));
             }
         }
         accepted
@@ -310,11 +345,12 @@ fn build_face_mask() -> FaceMask {
         })
         .filter(|p| domain.contains(*p))
         .collect();
+    let clearance = domain.boundary_clearance(&candidates);
     let (mut lo, mut hi) = (0.5, 2.0);
-    let mut best = domain.scatter(&candidates, lo);
+    let mut best = domain.scatter(&candidates, &clearance, lo);
     for _ in 0..40 {
         let mid = 0.5 * (lo + hi);
-        let pts = domain.scatter(&candidates, mid);
+        let pts = domain.scatter(&candidates, &clearance, mid);
         if pts.len() >= interior_target {
             lo = mid;
             best = pts;

@@ -17,8 +17,12 @@ from mathutils import Vector
 COLOURS = {
     "skin": (0.85, 0.66, 0.55, 1),
     "ears": (0.82, 0.62, 0.52, 1),
+    "sockets": (0.55, 0.30, 0.30, 1),
+    "mouthCavity": (0.45, 0.18, 0.20, 1),
     "eyeLeft": (0.95, 0.95, 0.97, 1),
     "eyeRight": (0.95, 0.95, 0.97, 1),
+    "eyeLeftIris": (0.25, 0.35, 0.55, 1),
+    "eyeRightIris": (0.25, 0.35, 0.55, 1),
     "teethUpper": (0.97, 0.95, 0.85, 1),
     "teethLower": (0.97, 0.95, 0.85, 1),
     "gumsUpper": (0.85, 0.40, 0.45, 1),

@@ -112,3 +112,45 @@ pub fn gaze_rotation(side: usize, look: [f64; 4]) -> DMat3 {
     let pitch = (down - up) * LOOK_VERTICAL;
     DMat3::from_rotation_y(yaw) * DMat3::from_rotation_x(pitch)
 }
+
+/// Radius of the eye socket's lining (m): 2.5 mm wider than the globe, so
+/// the turning cornea (13 mm from the centre) stays inside it.
+pub const SOCKET_RADIUS: f64 = 0.0145;
+/// Opening of the socket's lining, from the visual axis (rad): 62°, so its
+/// rim lies 7 mm in front of the eye centre, behind the lids and corners.
+pub const SOCKET_OPENING: f64 = 62.0 * PI / 180.0;
+
+/// The socket behind the eye at `centre`: the back of a sphere of
+/// [`SOCKET_RADIUS`] beyond [`SOCKET_OPENING`], facing inwards. Through the
+/// corners of the eye, wider than the globe, one sees it rather than the
+/// inside of the head.
+pub fn socket(centre: DVec3) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+    let rings = 12;
+    let mut positions = Vec::new();
+    for k in 0..rings {
+        let theta = SOCKET_OPENING + (PI - SOCKET_OPENING) * k as f64 / rings as f64;
+        for j in 0..SEGMENTS {
+            let phi = TAU * j as f64 / SEGMENTS as f64;
+            let d = DVec3::new(
+                theta.sin() * phi.cos(),
+                theta.sin() * phi.sin(),
+                theta.cos(),
+            );
+            positions.push(centre + d * SOCKET_RADIUS);
+        }
+    }
+    positions.push(centre - DVec3::Z * SOCKET_RADIUS);
+    let ring = |k: usize, j: usize| (k * SEGMENTS + j % SEGMENTS) as u32;
+    let mut triangles = Vec::new();
+    for k in 0..rings - 1 {
+        for j in 0..SEGMENTS {
+            triangles.push([ring(k, j), ring(k + 1, j + 1), ring(k + 1, j)]);
+            triangles.push([ring(k, j), ring(k, j + 1), ring(k + 1, j + 1)]);
+        }
+    }
+    let back = (positions.len() - 1) as u32;
+    for j in 0..SEGMENTS {
+        triangles.push([ring(rings - 1, j), ring(rings - 1, j + 1), back]);
+    }
+    (positions, triangles)
+}

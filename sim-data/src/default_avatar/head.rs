@@ -5,15 +5,18 @@
 //! (`smin(a, b, k) = min(a, b) − h²k/4`, `h = max(k − |a − b|, 0)/k`) of
 //! approximate distances to a cranium (horizontal sections superelliptic
 //! with exponent 3, so the head is broad just behind the face's outline), a
-//! jaw, an elliptic neck and a flat ellipsoid for the shoulders. It is
-//! star-shaped about [`CENTRE`]: the skin in direction `d` is
-//! `C + ρ(d) d`, with `ρ` the first crossing of `F` along the ray.
+//! jaw, an elliptic neck and an ellipsoidal dome for the shoulders. It is
+//! nearly star-shaped: the skin at parameters `(γ, ψ)` (angle from
+//! straight up, azimuth) is `o(γ) + ρ d(γ, ψ)`, with `d` the unit direction,
+//! `o(γ)` the ray's origin ([`CENTRE`] for the upper half, sliding down the
+//! vertical axis below it, see [`origin`]) and `ρ` the first crossing of `F`
+//! along the ray.
 //!
 //! Near the face the radius is corrected so the head meets the mask's
-//! outline exactly: `ρ(d) += δ(d) · κ(α/α₀)`, where `δ` is Shepard's
-//! interpolation (weights `1/α_k⁴`) of the mismatches `|x_k − o| − ρ(d_k)`
-//! at the rim points, `α` the angle to the nearest one, `κ(t) = (1 − t²)³` and `α₀ =`
-//! [`BLEND_ANGLE`].
+//! outline exactly: `ρ += δ · κ(α/α₀)`, where `δ` is Shepard's interpolation
+//! (weights `1/α_k⁴`, `α_k²` taken as the squared chord `2(1 − d·d_k)`) of
+//! the mismatches `|x_k − o| − ρ_k` at the rim points, `α` the angle to the
+//! nearest one, `κ(t) = (1 − t²)³` and `α₀ =` [`BLEND_ANGLE`].
 //!
 //! Vertices are laid out on rings about the vertical axis through `C`, from
 //! the crown down to the horizontal cut at [`BOTTOM_Y`], [`HEAD_SPACING`]
@@ -173,14 +176,17 @@ impl Rim {
     /// The surface at `(γ, ψ)` corrected to meet the rim.
     fn surface(&self, gamma: f64, psi: f64) -> DVec3 {
         let (o, d, r) = ray(gamma, psi);
-        let (mut sum, mut wsum, mut nearest) = (0.0, 0.0, PI);
+        // Squared chords |d − d_k|² = 2(1 − d·d_k) stand in for squared
+        // angles in the weights (equal to second order, and no arccosine).
+        let (mut sum, mut wsum, mut closest) = (0.0, 0.0, -1.0f64);
         for (rd, m) in self.dirs.iter().zip(&self.mismatch) {
-            let a = rd.angle_between(d);
-            let w = 1.0 / (a * a + 1e-8).powi(2);
+            let cos = rd.dot(d);
+            let w = 1.0 / (2.0 * (1.0 - cos) + 1e-8).powi(2);
             sum += w * m;
             wsum += w;
-            nearest = nearest.min(a);
+            closest = closest.max(cos);
         }
+        let nearest = closest.clamp(-1.0, 1.0).acos();
         o + d * (r + crate::regions::kernel(nearest / BLEND_ANGLE) * sum / wsum)
     }
 }

@@ -12,8 +12,8 @@
 //! | face skin | [`face`] | mask's parameter plane resampled (1.7 mm hex grid), each vertex at a barycentric point of a mask triangle |
 //! | head, neck, shoulders | [`head`] | star-shaped implicit surface about `head::CENTRE`, rings 4.5 mm apart, joined to the face's outline |
 //! | ears | [`ears`] | pressed ellipsoid shells, roots sunk into the head |
-//! | eyeballs | [`eyes`] | 24 mm globe with an 11.5 mm cornea bulging 2.5 mm, placed as far forward as the lids allow |
-//! | teeth, gums, tongue | [`mouth`] | 14 rounded-box crowns per jaw on a parabolic arch, tube gums, flattened ellipsoid tongue |
+//! | eyeballs, sockets | [`eyes`] | 24 mm globe with an 11.5 mm cornea bulging 2.5 mm, placed as far forward as the lids allow; a 29 mm bowl behind each |
+//! | teeth, gums, tongue, mouth lining | [`mouth`] | 14 rounded-box crowns per jaw on a parabolic arch, tube gums, flattened ellipsoid tongue, an ellipsoid lining open towards the lips |
 //! | blendshapes | [`shapes`] | template interpolated on the face, continued past the outline; jaw, gaze and tongue motions |
 //!
 //! Coordinates are ARKit's face-anchor space in metres: +x the person's
@@ -44,9 +44,13 @@ pub const LID_CLEARANCE: f64 = 0.0004;
 /// The default avatar and what is known about it by construction.
 #[derive(Clone, Debug)]
 pub struct DefaultAvatar {
-    /// The avatar: meshes `head` (parts `skin`, `ears`), `eyeLeft`,
+    /// The avatar: meshes `head` (parts `skin`, `ears`, `sockets`,
+    /// `mouthCavity`), `eyeLeft`,
     /// `eyeRight`, `teeth` (`teethUpper`, `teethLower`), `gums`
-    /// (`gumsUpper`, `gumsLower`), `tongue`.
+    /// (`gumsUpper`, `gumsLower`), `tongue`. Every mesh carries all 52 ARKit
+    /// targets in Apple's order (as Ready Player Me's avatars do), zero
+    /// where a shape does not move it, so `targets[shape.index()]` is
+    /// always that shape.
     pub avatar: Avatar,
     /// For skin vertex `v < true_correspondence.len()`, the point of the
     /// mask it lies on (mask triangle and barycentric coordinates). The
@@ -62,6 +66,10 @@ pub struct DefaultAvatar {
     pub ears: usize,
     /// Indices of the eyeball parts, `[left, right]`.
     pub eyes: [usize; 2],
+    /// Index of the eye sockets' lining (in the head mesh, both sides).
+    pub sockets: usize,
+    /// Index of the mouth's lining (in the head mesh).
+    pub mouth_cavity: usize,
     /// Indices of the teeth parts, `[upper, lower]`.
     pub teeth: [usize; 2],
     /// Indices of the gum parts, `[upper, lower]`.
@@ -84,6 +92,15 @@ pub fn default_avatar() -> &'static DefaultAvatar {
 /// The shapes that move a part, in ARKit's order.
 fn shapes_where(keep: impl Fn(Blendshape) -> bool) -> Vec<Blendshape> {
     Blendshape::ALL.into_iter().filter(|s| keep(*s)).collect()
+}
+
+/// One displacement field per ARKit shape, in Apple's order: `moves(s)`
+/// or zero.
+fn every_shape(n: usize, moves: impl Fn(Blendshape) -> Option<Vec<DVec3>>) -> Vec<Vec<DVec3>> {
+    Blendshape::ALL
+        .iter()
+        .map(|&s| moves(s).unwrap_or_else(|| vec![DVec3::ZERO; n]))
+        .collect()
 }
 
 fn eye_shapes(side: usize) -> Vec<Blendshape> {
@@ -237,70 +254,71 @@ fn build_default_avatar() -> DefaultAvatar {
     let ear_targets = vec![vec![DVec3::ZERO; ear_mesh.0.len()]; all.len()];
     parts.push(part("ears", 0, 1, &ear_mesh, ear_targets));
     let mut eye_centres = [Vec3::ZERO; 2];
+    let mut eye_parts = Vec::new();
     for (side, slot) in eye_centres.iter_mut().enumerate() {
         let x = if side == 0 { 1.0 } else { -1.0 } * EYE_CENTRE[0];
         let centre = DVec3::new(x, EYE_CENTRE[1], eye_depth(side, &face, &face_t));
         *slot = centre.as_vec3();
         let ball = eyes::eyeball(centre);
-        let targets = eye_shapes(side)
-            .iter()
-            .map(|s| shapes::rotate_about(&ball.0, centre, shape_rotation(side, *s)))
-            .collect();
+        let own = eye_shapes(side);
+        let targets = every_shape(ball.0.len(), |s| {
+            own.contains(&s)
+                .then(|| shapes::rotate_about(&ball.0, centre, shape_rotation(side, s)))
+        });
         let name = if side == 0 { "eyeLeft" } else { "eyeRight" };
-        parts.push(part(name, 1 + side, 0, &ball, targets));
+        eye_parts.push(part(name, 1 + side, 0, &ball, targets));
     }
-    // Mouth.
-    let jaw_shapes = shapes_where(|s| shapes::jaw_motion(s).is_some());
-    for (k, (name, upper)) in [("teethUpper", true), ("teethLower", false)]
+    let sockets = {
+        let mut m: mouth::Mesh = (Vec::new(), Vec::new());
+        for c in eye_centres {
+            let e = eyes::socket(c.as_dvec3());
+            let o = m.0.len() as u32;
+            m.0.extend(e.0);
+            m.1.extend(e.1.into_iter().map(|t| t.map(|i| i + o)));
+        }
+        m
+    };
+    let socket_targets = every_shape(sockets.0.len(), |_| None);
+    parts.push(part("sockets", 0, 2, &sockets, socket_targets));
+    let cavity = mouth::cavity();
+    let cavity_targets: Vec<Vec<DVec3>> = shapes::jaw_part_targets(&cavity.0, &all)
         .into_iter()
-        .enumerate()
-    {
-        let g = mouth::teeth(upper);
-        let t = if upper {
-            vec![vec![DVec3::ZERO; g.0.len()]; jaw_shapes.len()]
+        .map(|t| {
+            t.iter()
+                .zip(&cavity.0)
+                .map(|(d, p)| mouth::cavity_jaw_weight(*p) * *d)
+                .collect()
+        })
+        .collect();
+    parts.push(part("mouthCavity", 0, 3, &cavity, cavity_targets));
+    parts.extend(eye_parts);
+    // Mouth: the upper row stays with the skull, the lower follows the jaw.
+    let rows = [
+        ("teethUpper", 3, 0, mouth::teeth(true)),
+        ("teethLower", 3, 1, mouth::teeth(false)),
+        ("gumsUpper", 4, 0, mouth::gums(true)),
+        ("gumsLower", 4, 1, mouth::gums(false)),
+    ];
+    for (name, mesh, primitive, g) in rows {
+        let t = if primitive == 0 {
+            every_shape(g.0.len(), |_| None)
         } else {
-            shapes::jaw_part_targets(&g.0, &jaw_shapes)
+            shapes::jaw_part_targets(&g.0, &all)
         };
-        parts.push(part(name, 3, k, &g, t));
+        parts.push(part(name, mesh, primitive, &g, t));
     }
-    for (k, (name, upper)) in [("gumsUpper", true), ("gumsLower", false)]
-        .into_iter()
-        .enumerate()
-    {
-        let g = mouth::gums(upper);
-        let t = if upper {
-            vec![vec![DVec3::ZERO; g.0.len()]; jaw_shapes.len()]
-        } else {
-            shapes::jaw_part_targets(&g.0, &jaw_shapes)
-        };
-        parts.push(part(name, 4, k, &g, t));
-    }
-    let tongue_shapes =
-        shapes_where(|s| shapes::jaw_motion(s).is_some() || s == Blendshape::TongueOut);
     let tg = mouth::tongue();
     let (back, tip) = (
         mouth::TONGUE_CENTRE.z - mouth::TONGUE_RADII.z,
         mouth::TONGUE_CENTRE.z + mouth::TONGUE_RADII.z,
     );
-    let tongue_t = tongue_shapes
-        .iter()
-        .map(|&s| {
-            if s == Blendshape::TongueOut {
-                shapes::tongue_out(&tg.0, 0.0, back, tip)
-            } else {
-                shapes::jaw_part_targets(&tg.0, &[s]).remove(0)
-            }
-        })
-        .collect();
+    let mut tongue_t = shapes::jaw_part_targets(&tg.0, &all);
+    tongue_t[Blendshape::TongueOut.index()] =
+        shapes::tongue_out(&tg.0, mouth::TONGUE_CENTRE, back, tip);
     parts.push(part("tongue", 5, 0, &tg, tongue_t));
-    let meshes = vec![
-        mesh("head", &all),
-        mesh("eyeLeft", &eye_shapes(0)),
-        mesh("eyeRight", &eye_shapes(1)),
-        mesh("teeth", &jaw_shapes),
-        mesh("gums", &jaw_shapes),
-        mesh("tongue", &tongue_shapes),
-    ];
+    let meshes = ["head", "eyeLeft", "eyeRight", "teeth", "gums", "tongue"]
+        .map(|name| mesh(name, &all))
+        .to_vec();
     DefaultAvatar {
         avatar: Avatar { meshes, parts },
         true_correspondence: face.on_mask.clone(),
@@ -308,10 +326,12 @@ fn build_default_avatar() -> DefaultAvatar {
         neck_bottom: head.bottom.iter().map(|&i| remap(i)).collect(),
         skin: 0,
         ears: 1,
-        eyes: [2, 3],
-        teeth: [4, 5],
-        gums: [6, 7],
-        tongue: 8,
+        sockets: 2,
+        mouth_cavity: 3,
+        eyes: [4, 5],
+        teeth: [6, 7],
+        gums: [8, 9],
+        tongue: 10,
         eye_centres,
         eye_radius: eyes::EYE_RADIUS as f32,
     }

@@ -202,3 +202,50 @@ pub fn tongue() -> Mesh {
         .collect();
     (p, tris)
 }
+
+/// Centre of the mouth's lining (m): behind the lips, around the teeth.
+pub const CAVITY_CENTRE: DVec3 = DVec3::new(0.0, -0.048, -0.002);
+/// Half extents of the lining's ellipsoid (m).
+pub const CAVITY_RADII: DVec3 = DVec3::new(0.031, 0.026, 0.040);
+/// The lining stops at this depth (m), 2 mm or more behind the skin of the
+/// lips, chin and cheeks, leaving the front open towards the mouth slit.
+pub const CAVITY_FRONT_Z: f64 = 0.017;
+
+/// The mouth's lining: an ellipsoid around teeth and tongue, cut open at
+/// [`CAVITY_FRONT_Z`], facing inwards. Through the open mouth one sees it
+/// rather than the inside of the head.
+pub fn cavity() -> Mesh {
+    let (rings, segments) = (18, 40);
+    // Rings around the z axis, from the opening (θ₀, where the ellipsoid
+    // reaches the cut) to the back pole.
+    let theta0 = ((CAVITY_FRONT_Z - CAVITY_CENTRE.z) / CAVITY_RADII.z).acos();
+    let mut p = Vec::new();
+    for k in 0..rings {
+        let th = theta0 + (PI - theta0) * k as f64 / rings as f64;
+        for j in 0..segments {
+            let ph = TAU * j as f64 / segments as f64;
+            let q = DVec3::new(th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos());
+            p.push(CAVITY_CENTRE + q * CAVITY_RADII);
+        }
+    }
+    p.push(CAVITY_CENTRE - DVec3::Z * CAVITY_RADII.z);
+    let r = |k: usize, j: usize| (k * segments + j % segments) as u32;
+    let mut t = Vec::new();
+    for k in 0..rings - 1 {
+        for j in 0..segments {
+            t.push([r(k, j), r(k + 1, j + 1), r(k + 1, j)]);
+            t.push([r(k, j), r(k, j + 1), r(k + 1, j + 1)]);
+        }
+    }
+    let back = (p.len() - 1) as u32;
+    for j in 0..segments {
+        t.push([r(rings - 1, j), r(rings - 1, j + 1), back]);
+    }
+    (p, t)
+}
+
+/// How much of the lining follows the mandible: its floor fully, its roof
+/// not at all, blended between 3 mm and 15 mm below the lining's centre.
+pub fn cavity_jaw_weight(p: DVec3) -> f64 {
+    crate::regions::smoothstep(CAVITY_CENTRE.y - 0.003, CAVITY_CENTRE.y - 0.015, p.y)
+}

@@ -20,9 +20,10 @@
 //!   translation of the template.
 //! - **Eyes.** eyeLook* rotate the eyeball on their side rigidly about its
 //!   centre (see [`super::eyes`]).
-//! - **Tongue.** tongueOut slides the tongue forward [`TONGUE_OUT`] (and
-//!   1/8 of that down), the tip fully, the root not at all (smoothstep along
-//!   its length), while narrowing the protruding part by 25%.
+//! - **Tongue.** tongueOut slides the tongue forward [`TONGUE_OUT`] and up
+//!   [`TONGUE_LIFT`], the tip fully, the root not at all (smoothstep along
+//!   its length), while narrowing the protruding part by 25% and thinning
+//!   it by 45%.
 
 use super::face::MaskPoint;
 use crate::regions::{kernel, smoothstep};
@@ -42,6 +43,9 @@ pub const SIGMA: f64 = 0.006;
 /// How far tongueOut pushes the tongue tip forward (m): 3 cm, the tip
 /// well past the lips.
 pub const TONGUE_OUT: f64 = 0.03;
+/// How far tongueOut raises the tongue's midline (m): from 8.5 mm below
+/// the lip line to 4.5 mm below it, the middle of a half-open mouth.
+pub const TONGUE_LIFT: f64 = 0.004;
 
 /// Displacement of each face vertex under each shape: `[shape][vertex]`.
 pub fn face_targets(
@@ -157,15 +161,19 @@ pub fn jaw_part_targets(positions: &[DVec3], shapes: &[Blendshape]) -> Vec<Vec<D
         .collect()
 }
 
-/// tongueOut on the tongue with the given back and tip depths (z).
-pub fn tongue_out(positions: &[DVec3], centre_x: f64, back: f64, tip: f64) -> Vec<DVec3> {
+/// tongueOut on the tongue centred at `centre` with the given back and tip
+/// depths (z): with `s` the smoothstep from back to tip, a point moves
+/// `s · (−¼ (x − c_x), TONGUE_LIFT − 0.45 (y − c_y), TONGUE_OUT)`: forward,
+/// narrower by a quarter, thinner by 45% and raised towards the lip line,
+/// so the protruding part passes between the lips of a half-open mouth.
+pub fn tongue_out(positions: &[DVec3], centre: DVec3, back: f64, tip: f64) -> Vec<DVec3> {
     positions
         .iter()
         .map(|p| {
             let s = smoothstep(back, tip, p.z);
             DVec3::new(
-                -0.25 * s * (p.x - centre_x),
-                -TONGUE_OUT * s / 8.0,
+                -0.25 * s * (p.x - centre.x),
+                s * (TONGUE_LIFT - 0.45 * (p.y - centre.y)),
                 TONGUE_OUT * s,
             )
         })

@@ -189,9 +189,10 @@ fn default_avatar_has_all_52_arkit_targets() {
         assert!(names.contains(s.name()), "{} missing", s.name());
     }
     assert_eq!(names.len(), 52);
-    let head = &a.avatar.meshes[0];
     let expected: Vec<&str> = Blendshape::ALL.iter().map(|s| s.name()).collect();
-    assert_eq!(head.target_names, expected);
+    for m in &a.avatar.meshes {
+        assert_eq!(m.target_names, expected);
+    }
     for p in &a.avatar.parts {
         assert_eq!(p.targets.len(), a.avatar.meshes[p.mesh].target_names.len());
         assert!(p.targets.iter().all(|t| t.len() == p.positions.len()));
@@ -308,6 +309,72 @@ fn default_avatar_blink_closes_over_the_eyeball_without_entering_it() {
             let gap = (skin.positions[vu] + d[vu]).distance(skin.positions[vl] + d[vl]);
             assert!(gap < 1e-6, "lids {gap} apart");
         }
+    }
+}
+
+#[test]
+fn default_avatar_sockets_lie_behind_the_skin_around_the_eyeballs() {
+    let a = avatar();
+    let skin = &a.avatar.parts[a.skin];
+    let sockets = &a.avatar.parts[a.sockets];
+    for c in a.eye_centres {
+        let c = c.as_dvec3();
+        // The eyeball, turned any way, stays inside the lining.
+        let reach = eyes::cornea_offset() + eyes::cornea_radius();
+        assert!(reach < eyes::SOCKET_RADIUS);
+        // No skin vertex lies behind the lining's opening inside its sphere.
+        for p in &skin.positions {
+            let d = p.as_dvec3() - c;
+            let theta = d.angle_between(DVec3::Z);
+            if theta >= eyes::SOCKET_OPENING {
+                assert!(d.length() > eyes::SOCKET_RADIUS, "skin {p:?} in the socket");
+            }
+        }
+        assert!(
+            sockets
+                .positions
+                .iter()
+                .any(|p| p.as_dvec3().distance(c) < 0.0146)
+        );
+    }
+}
+
+#[test]
+fn default_avatar_mouth_lining_stays_behind_the_skin_and_around_the_mouth() {
+    let a = avatar();
+    let skin = &a.avatar.parts[a.skin];
+    let lining = &a.avatar.parts[a.mouth_cavity];
+    // Every lining vertex lies behind the skin: the skin vertex nearest to
+    // it in (x, y) is in front of it.
+    for q in &lining.positions {
+        let nearest = skin
+            .positions
+            .iter()
+            .filter(|p| p.z > 0.0)
+            .min_by(|p, r| {
+                let dp = (p.x - q.x).hypot(p.y - q.y);
+                let dr = (r.x - q.x).hypot(r.y - q.y);
+                dp.total_cmp(&dr)
+            })
+            .expect("a face");
+        if (nearest.x - q.x).hypot(nearest.y - q.y) < 0.002 {
+            assert!(
+                nearest.z > q.z + 0.002,
+                "lining {q:?} at the skin {nearest:?}"
+            );
+        }
+    }
+    // Teeth and tongue lie within its ellipsoid (the molars' gums may
+    // touch it).
+    let inside = |p: Vec3| {
+        let q = (p.as_dvec3() - mouth::CAVITY_CENTRE) / mouth::CAVITY_RADII;
+        q.length() < 1.0
+    };
+    for part in [a.teeth[0], a.teeth[1], a.tongue] {
+        let p = &a.avatar.parts[part];
+        let share =
+            p.positions.iter().filter(|x| inside(**x)).count() as f64 / p.positions.len() as f64;
+        assert!(share > 0.9, "{}: {share}", p.name);
     }
 }
 

@@ -113,6 +113,9 @@ fn every_broken_file_gives_its_typed_error() {
     assert!(matches!(e, GlbError::Primitive { mesh: 1, .. }), "{e}");
     let e = error_of(|d, _| d["scenes"][0]["nodes"] = json!([]));
     assert!(matches!(e, GlbError::NoMesh { .. }), "{e}");
+    // gltf-json would index past its accessors here: checked first.
+    let e = error_of(|d, _| d["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = json!(999));
+    assert!(matches!(e, GlbError::Invalid { .. }), "{e}");
     let e = error_of(|d, _| d["nodes"][1]["mesh"] = json!(7));
     assert!(matches!(e, GlbError::Invalid { .. }), "{e}");
     let e = error_of(|d, _| d["extensionsRequired"] = json!(["KHR_draco_mesh_compression"]));
@@ -194,4 +197,18 @@ fn a_cycle_in_the_hierarchy_does_not_hang() {
     doc["nodes"][1]["children"] = json!([0]);
     // Either a validation error or a read; neither loops.
     let _ = read_avatar_bytes(&glb(&doc, &bin), "cycle.glb");
+}
+
+#[test]
+fn no_corrupted_byte_panics() {
+    let (doc, bin) = fixture();
+    let good = glb(&doc, &bin);
+    for at in 0..good.len() {
+        for flip in [0x01u8, 0x80, 0xFF] {
+            let mut bad = good.clone();
+            bad[at] ^= flip;
+            // An error or a read; never a panic or a huge allocation.
+            let _ = read_avatar_bytes(&bad, "flipped.glb");
+        }
+    }
 }

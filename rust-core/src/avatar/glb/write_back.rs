@@ -29,9 +29,9 @@
 //! accessor and view keeps its index unless more were dropped than added
 //! (a replaced target that also had normals, halves made whole), when the
 //! last ones move into the remaining gaps and every reference is renumbered
-//! (`refs.rs`).
-//! Everything outside `accessors`, `bufferViews`, `buffers` and the
-//! targets, weights and target names of meshes is left as it was.
+//! (`refs.rs`). Everything else (nodes but for their `weights`, skins,
+//! materials, textures, images, animations, unknown extensions and extras)
+//! is left as it was, up to those renumbered references.
 
 use super::encode::{Builder, TargetEncoding};
 use super::refs::{Kind, filling, place, renumber, used};

@@ -1,7 +1,8 @@
 //! Every GLB Likeness writes passes the Khronos glTF-Validator with no
-//! error and no warning: a new avatar of two meshes with sparse and dense
-//! targets, and a read `.gltf` with a scaled, rotated, translated node
-//! written back with new shapes. The validator runs under Node from
+//! error, warning or info: a new avatar of three meshes with sparse and
+//! dense targets, and that file as a `.gltf` with a scaled, rotated,
+//! translated node, a skinned mesh and normal deltas on its targets, read
+//! and written back with new shapes. The validator runs under Node from
 //! `tests/js` (`tests/run` installs it); without it this test fails.
 
 use glam::{Quat, Vec3};
@@ -74,6 +75,96 @@ fn avatar() -> Avatar {
     }
 }
 
+/// Appends `bytes` as a buffer view and an accessor over it; the
+/// accessor's index.
+fn push_accessor(doc: &mut Value, bin: &mut Vec<u8>, bytes: &[u8], accessor: Value) -> usize {
+    bin.resize(bin.len().next_multiple_of(4), 0);
+    let views = doc["bufferViews"].as_array_mut().unwrap();
+    let mut view = json!({ "buffer": 0, "byteOffset": bin.len(), "byteLength": bytes.len() });
+    if accessor["type"] != "MAT4" {
+        view["target"] = json!(34962); // vertex data
+    }
+    views.push(view);
+    let mut accessor = accessor;
+    accessor["bufferView"] = json!(views.len() - 1);
+    bin.extend_from_slice(bytes);
+    let accessors = doc["accessors"].as_array_mut().unwrap();
+    accessors.push(accessor);
+    accessors.len() - 1
+}
+
+/// Every target of the head gets normal deltas (one shared accessor), as
+/// exporters write them: replaced targets must drop theirs.
+fn add_normal_deltas(doc: &mut Value, bin: &mut Vec<u8>) {
+    let prim = &doc["meshes"][0]["primitives"][0];
+    let n = doc["accessors"][prim["attributes"]["POSITION"].as_u64().unwrap() as usize]["count"]
+        .as_u64()
+        .unwrap() as usize;
+    let bytes: Vec<u8> = (0..n)
+        .flat_map(|i| [0.0f32, 0.01 * (i % 2) as f32, 0.0])
+        .flat_map(f32::to_le_bytes)
+        .collect();
+    let a = push_accessor(
+        doc,
+        bin,
+        &bytes,
+        json!({ "componentType": 5126, "count": n, "type": "VEC3" }),
+    );
+    for t in doc["meshes"][0]["primitives"][0]["targets"]
+        .as_array_mut()
+        .unwrap()
+    {
+        t["NORMAL"] = json!(a);
+    }
+}
+
+/// The teeth become skinned to one joint at y = 1.5 whose inverse bind
+/// matrix undoes it: their bind placement is the identity, whatever their
+/// node says.
+fn add_skin_to_teeth(doc: &mut Value, bin: &mut Vec<u8>) {
+    let n = 20; // the teeth grid's vertices
+    let joints: Vec<u8> = (0..n).flat_map(|_| [0u8, 0, 0, 0]).collect();
+    let weights: Vec<u8> = (0..n)
+        .flat_map(|_| [1.0f32, 0.0, 0.0, 0.0])
+        .flat_map(f32::to_le_bytes)
+        .collect();
+    let ibm: Vec<u8> = glam::Mat4::from_translation(Vec3::new(0.0, -1.5, 0.0))
+        .to_cols_array()
+        .into_iter()
+        .flat_map(f32::to_le_bytes)
+        .collect();
+    let j = push_accessor(
+        doc,
+        bin,
+        &joints,
+        json!({ "componentType": 5121, "count": n, "type": "VEC4" }),
+    );
+    let w = push_accessor(
+        doc,
+        bin,
+        &weights,
+        json!({ "componentType": 5126, "count": n, "type": "VEC4" }),
+    );
+    let i = push_accessor(
+        doc,
+        bin,
+        &ibm,
+        json!({ "componentType": 5126, "count": 1, "type": "MAT4" }),
+    );
+    let attributes = &mut doc["meshes"][1]["primitives"][0]["attributes"];
+    attributes["JOINTS_0"] = json!(j);
+    attributes["WEIGHTS_0"] = json!(w);
+    let nodes = doc["nodes"].as_array_mut().unwrap();
+    nodes.push(json!({ "name": "Jaw", "translation": [0.0, 1.5, 0.0] }));
+    let joint = nodes.len() - 1;
+    nodes[1]["skin"] = json!(0);
+    doc["skins"] = json!([{ "joints": [joint], "inverseBindMatrices": i }]);
+    doc["scenes"][0]["nodes"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!(joint));
+}
+
 fn temp_dir() -> PathBuf {
     let dir = std::env::temp_dir().join(format!("likeness-glb-validator-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -118,6 +209,7 @@ fn assert_clean(reports: &[Value]) {
         assert_eq!(issues["numErrors"], json!(0), "{}", r["file"]);
         assert_eq!(issues["numWarnings"], json!(0), "{}", r["file"]);
         assert_eq!(issues["numInfos"], json!(0), "{}", r["file"]);
+        assert_eq!(issues["numHints"], json!(0), "{}", r["file"]);
     }
 }
 
@@ -144,8 +236,12 @@ fn written_glbs_pass_the_khronos_validator() {
     doc["nodes"][0]["translation"] = json!([0.1, 1.6, 0.0]);
     doc["nodes"][0]["rotation"] = json!([q.x, q.y, q.z, q.w]);
     doc["nodes"][0]["scale"] = json!([0.5, 0.5, 0.5]);
+    let mut bin = read.buffers()[0].clone();
+    add_normal_deltas(&mut doc, &mut bin);
+    add_skin_to_teeth(&mut doc, &mut bin);
     doc["buffers"][0]["uri"] = json!("moved.bin");
-    std::fs::write(dir.join("moved.bin"), &read.buffers()[0]).unwrap();
+    doc["buffers"][0]["byteLength"] = json!(bin.len());
+    std::fs::write(dir.join("moved.bin"), &bin).unwrap();
     let gltf = dir.join("moved.gltf");
     std::fs::write(&gltf, serde_json::to_vec(&doc).unwrap()).unwrap();
     let moved = read_avatar(&gltf).unwrap();
@@ -184,9 +280,19 @@ fn written_glbs_pass_the_khronos_validator() {
             if v < 40 { Vec3::Z * 0.002 } else { Vec3::ZERO }
         }),
     );
+    let teeth = &moved.avatar.parts[1];
+    assert_eq!(
+        teeth.positions,
+        avatar().parts[1].positions,
+        "bind placement"
+    );
     let back = dir.join("back.glb");
     write_avatar(&moved, &shapes, &back).unwrap();
     let reread = read_avatar(&back).unwrap();
+    // Replaced targets lose their normal deltas; the kept one keeps them.
+    let targets = &reread.json()["meshes"][0]["primitives"][0]["targets"];
+    assert!(targets[0].get("NORMAL").is_none());
+    assert!(targets[2].get("NORMAL").is_some());
     // The eyes had no targets; the new shapes move them (Apple's order).
     assert_eq!(
         reread.avatar.meshes[2].target_names,

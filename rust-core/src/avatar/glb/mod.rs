@@ -24,12 +24,12 @@ pub mod scene;
 pub mod write_back;
 pub mod write_new;
 
-pub use error::GlbError;
-pub use read::{GlbAvatar, check_avatar, read_avatar, read_avatar_bytes};
 #[cfg(test)]
 mod tests;
 
 pub use encode::TargetEncoding;
+pub use error::GlbError;
+pub use read::{GlbAvatar, check_avatar, read_avatar, read_avatar_bytes};
 pub use scene::Placement;
 pub use write_back::{NewShapes, write_avatar, written_back_glb};
 pub use write_new::{MeshLook, NewGlbOptions, new_avatar_glb, write_new_avatar};

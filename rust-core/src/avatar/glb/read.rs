@@ -100,6 +100,21 @@ fn read(bytes: &[u8], file: &Path, folder: Option<&Path>) -> Result<GlbAvatar, G
         )));
     }
     root.extensions_required.clear();
+    // gltf-json 1.4's validation indexes `accessors` with each POSITION
+    // before checking the index: check it first.
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            let semantic = gltf::json::validation::Checked::Valid(gltf::Semantic::Positions);
+            if let Some(a) = primitive.attributes.get(&semantic)
+                && a.value() >= root.accessors.len()
+            {
+                return Err(invalid(format!(
+                    "meshes[{m}].primitives[{p}].attributes.POSITION: accessor {} does not exist",
+                    a.value()
+                )));
+            }
+        }
+    }
     let document = gltf::Document::from_json(root).map_err(|e| match e {
         gltf::Error::Validation(list) => invalid(
             list.iter()

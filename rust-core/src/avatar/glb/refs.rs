@@ -99,18 +99,36 @@ pub(crate) fn renumber(doc: &mut Value, kind: Kind, map: &[Option<usize>]) {
     }
 }
 
-/// The renumbering that drops the objects where `drop` is true and closes
-/// the gaps.
-pub(crate) fn compacting(drop: &[bool]) -> Vec<Option<usize>> {
-    let mut next = 0;
-    drop.iter()
-        .map(|&d| {
-            (!d).then(|| {
-                next += 1;
-                next - 1
-            })
-        })
-        .collect()
+/// The renumbering that drops the objects where `drop` is true and moves
+/// as few of the rest as it can: every object keeps its index unless that
+/// index is past the new end, and such objects fill the gaps, those from
+/// `first_new` on (the ones just added) first.
+pub(crate) fn filling(drop: &[bool], first_new: usize) -> Vec<Option<usize>> {
+    let len = drop.iter().filter(|&&d| !d).count();
+    let mut map: Vec<Option<usize>> = (0..drop.len())
+        .map(|i| (!drop[i] && i < len).then_some(i))
+        .collect();
+    let holes = (0..len).filter(|&i| drop[i]);
+    let movers = (first_new.max(len)..drop.len())
+        .chain(len..first_new.max(len))
+        .filter(|&i| !drop[i]);
+    for (hole, mover) in holes.zip(movers) {
+        map[mover] = Some(hole);
+    }
+    map
+}
+
+/// `items` placed by `map` (from [`filling`]): item `i` at `map[i]`,
+/// dropped items gone.
+pub(crate) fn place<T>(items: Vec<T>, map: &[Option<usize>]) -> Vec<T> {
+    let mut slots: Vec<Option<T>> = Vec::new();
+    slots.resize_with(map.iter().flatten().count(), || None);
+    for (item, at) in items.into_iter().zip(map) {
+        if let Some(slot) = at.and_then(|j| slots.get_mut(j)) {
+            *slot = Some(item);
+        }
+    }
+    slots.into_iter().flatten().collect()
 }
 
 #[cfg(test)]
@@ -126,13 +144,25 @@ mod tests {
             "skins": [{ "inverseBindMatrices": 3 }],
         });
         assert_eq!(used(&doc, Kind::Accessor, 4), [true, false, true, true]);
-        let map = compacting(&[false, true, false, false]);
+        let map = filling(&[false, true, false, false], 4);
+        assert_eq!(map, [Some(0), None, Some(2), Some(1)]);
         renumber(&mut doc, Kind::Accessor, &map);
-        assert_eq!(doc["meshes"][0]["primitives"][0]["indices"], json!(2));
+        assert_eq!(doc["meshes"][0]["primitives"][0]["indices"], json!(1));
         assert_eq!(
             doc["meshes"][0]["primitives"][0]["targets"][0]["POSITION"],
-            json!(1)
+            json!(2)
         );
-        assert_eq!(doc["skins"][0]["inverseBindMatrices"], json!(2));
+        assert_eq!(doc["skins"][0]["inverseBindMatrices"], json!(1));
+        assert_eq!(place(vec!['a', 'b', 'c', 'd'], &map), ['a', 'd', 'c']);
+    }
+
+    #[test]
+    fn new_objects_fill_the_gaps_first() {
+        // Old 0..4 with 1 and 2 dropped; 4 and 5 new.
+        let map = filling(&[false, true, true, false, false, false], 4);
+        assert_eq!(map, [Some(0), None, None, Some(3), Some(1), Some(2)]);
+        // More gaps than new objects: an old one past the end moves.
+        let map = filling(&[true, true, false, false, false], 4);
+        assert_eq!(map, [None, None, Some(2), Some(1), Some(0)]);
     }
 }

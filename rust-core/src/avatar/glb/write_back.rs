@@ -25,12 +25,16 @@
 //! The file is always written as GLB with one buffer: every buffer view
 //! still referred to is copied (4-byte aligned) from whichever buffer held
 //! it, then the new views follow. Accessors and views only the replaced
-//! targets used are dropped and the rest renumbered (`refs.rs`).
-//! Everything outside `accessors`, `bufferViews`, `buffers` and the
-//! targets, weights and target names of meshes is left as it was.
+//! targets used are dropped; new ones take their indices, so every other
+//! accessor and view keeps its index unless more were dropped than added
+//! (a replaced target that also had normals, halves made whole), when the
+//! last ones move into the remaining gaps and every reference is renumbered
+//! (`refs.rs`). Everything else (nodes but for their `weights`, skins,
+//! materials, textures, images, animations, unknown extensions and extras)
+//! is left as it was, up to those renumbered references.
 
 use super::encode::{Builder, TargetEncoding};
-use super::refs::{Kind, compacting, renumber, used};
+use super::refs::{Kind, filling, place, renumber, used};
 use super::{GlbAvatar, GlbError, container};
 use crate::arkit::{BLENDSHAPE_COUNT, Blendshape};
 use crate::avatar::target_names::{TargetName, parse_target_name};
@@ -318,47 +322,48 @@ fn assemble(
     }
     let total = old_accessors + new_accessors.len();
     let before = used(&avatar.json, Kind::Accessor, total);
-    if let Some(list) = doc["accessors"].as_array_mut() {
-        list.extend(new_accessors);
-    } else if !new_accessors.is_empty() {
-        doc["accessors"] = Value::Array(new_accessors);
-    }
+    let mut accessors = doc["accessors"].as_array().cloned().unwrap_or_default();
+    accessors.extend(new_accessors);
     let after = used(&doc, Kind::Accessor, total);
     let drop: Vec<bool> = (0..total).map(|i| before[i] && !after[i]).collect();
-    renumber(&mut doc, Kind::Accessor, &compacting(&drop));
-    if let Some(list) = doc.get_mut("accessors") {
-        remove(list, &drop);
-    }
+    let map = filling(&drop, old_accessors);
+    renumber(&mut doc, Kind::Accessor, &map);
+    doc["accessors"] = Value::Array(place(accessors, &map));
 
+    // Views: the old ones with their bytes, then the new ones.
     let views_total = old_views + b.views.len();
     let views_before = used(&avatar.json, Kind::View, views_total);
     let views_after = used(&doc, Kind::View, views_total);
     let drop: Vec<bool> = (0..views_total)
         .map(|i| i < old_views && views_before[i] && !views_after[i])
         .collect();
-    let mut bin = Vec::new();
-    let mut views = Vec::new();
+    let mut views: Vec<(Value, &[u8])> = Vec::with_capacity(views_total);
     let old = doc["bufferViews"].as_array().cloned().unwrap_or_default();
     for (i, view) in old.into_iter().enumerate() {
-        if drop[i] {
-            continue;
-        }
         let buffer = view["buffer"].as_u64().unwrap_or(0) as usize;
         let offset = view["byteOffset"].as_u64().unwrap_or(0) as usize;
         let length = view["byteLength"].as_u64().unwrap_or(0) as usize;
-        let bytes = avatar
-            .buffers
-            .get(buffer)
-            .and_then(|d| d.get(offset..offset.checked_add(length)?))
-            .ok_or_else(|| format!("buffer view {i} lies outside buffer {buffer}"))?;
-        views.push(relocate(view, &mut bin, bytes));
+        let bytes = match avatar.buffers.get(buffer) {
+            _ if drop[i] => &[][..],
+            Some(d) => d
+                .get(offset..offset.saturating_add(length))
+                .ok_or_else(|| format!("buffer view {i} lies outside buffer {buffer}"))?,
+            None => return Err(format!("buffer view {i}: no buffer {buffer}")),
+        };
+        views.push((view, bytes));
     }
     for view in b.views {
         let offset = view["byteOffset"].as_u64().unwrap_or(0) as usize;
         let length = view["byteLength"].as_u64().unwrap_or(0) as usize;
-        views.push(relocate(view, &mut bin, &b.bin[offset..offset + length]));
+        views.push((view, &b.bin[offset..offset + length]));
     }
-    renumber(&mut doc, Kind::View, &compacting(&drop));
+    let map = filling(&drop, old_views);
+    renumber(&mut doc, Kind::View, &map);
+    let mut bin = Vec::new();
+    let views: Vec<Value> = place(views, &map)
+        .into_iter()
+        .map(|(view, bytes)| relocate(view, &mut bin, bytes))
+        .collect();
     if !views.is_empty() || doc.get("bufferViews").is_some() {
         doc["bufferViews"] = Value::Array(views);
     }
@@ -384,15 +389,4 @@ fn relocate(mut view: Value, bin: &mut Vec<u8>, bytes: &[u8]) -> Value {
     view["byteOffset"] = json!(bin.len());
     bin.extend_from_slice(bytes);
     view
-}
-
-/// Removes the elements of a JSON array where `drop` is true.
-fn remove(list: &mut Value, drop: &[bool]) {
-    if let Some(items) = list.as_array_mut() {
-        let mut i = 0;
-        items.retain(|_| {
-            i += 1;
-            !drop.get(i - 1).copied().unwrap_or(false)
-        });
-    }
 }

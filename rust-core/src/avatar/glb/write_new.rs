@@ -161,11 +161,14 @@ fn arkit_spelling(mesh: &AvatarMesh) -> Vec<String> {
         .collect()
 }
 
-/// Area-weighted vertex normals (see the module's doc).
+/// Area-weighted vertex normals (see the module's doc); a triangle with an
+/// index past `positions` is skipped.
 pub fn vertex_normals(positions: &[Vec3], triangles: &[[u32; 3]]) -> Vec<Vec3> {
     let mut sum = vec![Vec3::ZERO; positions.len()];
     for t in triangles {
-        let [a, b, c] = t.map(|i| positions[i as usize]);
+        let [Some(&a), Some(&b), Some(&c)] = t.map(|i| positions.get(i as usize)) else {
+            continue; // an index past the end: no face to weigh
+        };
         let n = (b - a).cross(c - a);
         for &i in t {
             sum[i as usize] += n;

@@ -226,13 +226,12 @@ pub fn avatar_command(args: &AvatarArgs) -> CliResult {
     let clock = Instant::now();
     let offsets = avatar.vertex_offsets();
     let mut shapes = NewShapes::new();
-    for shape in Blendshape::ALL {
-        let all = retargeting.displacement(avatar, shape);
-        let per_part = avatar
-            .parts
-            .iter()
-            .enumerate()
-            .map(|(i, _)| all[offsets[i]..offsets[i + 1]].to_vec())
+    for (shape, all) in Blendshape::ALL
+        .into_iter()
+        .zip(retargeting.displacements(avatar))
+    {
+        let per_part = (0..avatar.parts.len())
+            .map(|i| all[offsets[i]..offsets[i + 1]].to_vec())
             .collect();
         shapes.set(shape, per_part);
     }

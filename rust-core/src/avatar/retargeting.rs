@@ -51,6 +51,10 @@ use serde::{Deserialize, Serialize};
 /// avatar's blendshapes on the face (module docs).
 pub const RELATIVE_RIDGE: f64 = 1e-3;
 
+/// Displacements shorter than this share of the avatar's bounding-box
+/// diagonal are written as zero (a micrometre on a metre-sized avatar).
+pub const NEGLIGIBLE: f64 = 1e-6;
+
 /// Why no retargeting could be computed.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum RetargetError {
@@ -142,21 +146,67 @@ impl Retargeting {
     /// `A_j`: the displacement of every avatar vertex (as
     /// `Avatar::positions`) under ARKit shape `shape`, `Σ_i w̃_ji B̃_i`.
     pub fn displacement(&self, avatar: &Avatar, shape: Blendshape) -> Vec<Vec3> {
-        let mut out = vec![DVec3::ZERO; avatar.vertex_count()];
-        let Some(row) = self.weights.get(shape.index()) else {
-            return vec![Vec3::ZERO; out.len()];
-        };
-        for (blendshape, w) in self.targets.iter().zip(row) {
-            if *w == 0.0 {
-                continue;
-            }
-            for &(m, t) in &blendshape.targets {
-                for (o, d) in out.iter_mut().zip(avatar.target_displacement(m, t)) {
-                    *o += d.as_dvec3() * *w;
+        let own = self.blendshape_displacements(avatar);
+        self.combine(&own, shape, 0.0)
+    }
+
+    /// `A_j` for all 52 shapes, each avatar blendshape's displacement
+    /// computed once. Displacements shorter than [`NEGLIGIBLE`] of the
+    /// avatar's size are set to zero: invisible, and they would keep a
+    /// sparse target from being sparse.
+    pub fn displacements(&self, avatar: &Avatar) -> Vec<Vec<Vec3>> {
+        let own = self.blendshape_displacements(avatar);
+        let positions = avatar.positions();
+        let (lo, hi) = positions.iter().fold(
+            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        );
+        let cut = NEGLIGIBLE * f64::from((hi - lo).length());
+        Blendshape::ALL
+            .iter()
+            .map(|b| self.combine(&own, *b, if cut.is_finite() { cut } else { 0.0 }))
+            .collect()
+    }
+
+    /// Each avatar blendshape's displacement over all avatar vertices.
+    fn blendshape_displacements(&self, avatar: &Avatar) -> Vec<Vec<Vec3>> {
+        self.targets
+            .iter()
+            .map(|b| {
+                let mut d = vec![Vec3::ZERO; avatar.vertex_count()];
+                for &(m, t) in &b.targets {
+                    for (o, x) in d.iter_mut().zip(avatar.target_displacement(m, t)) {
+                        *o += x;
+                    }
+                }
+                d
+            })
+            .collect()
+    }
+
+    /// `Σ_i w̃_ji B̃_i` from the blendshapes' displacements `own`, lengths
+    /// below `cut` set to zero.
+    fn combine(&self, own: &[Vec<Vec3>], shape: Blendshape, cut: f64) -> Vec<Vec3> {
+        let n = own.first().map_or(0, |d| d.len());
+        let mut out = vec![DVec3::ZERO; n];
+        if let Some(row) = self.weights.get(shape.index()) {
+            for (d, w) in own.iter().zip(row) {
+                if *w != 0.0 {
+                    for (o, x) in out.iter_mut().zip(d) {
+                        *o += x.as_dvec3() * *w;
+                    }
                 }
             }
         }
-        out.iter().map(|d| d.as_vec3()).collect()
+        out.iter()
+            .map(|d| {
+                if d.length() < cut {
+                    Vec3::ZERO
+                } else {
+                    d.as_vec3()
+                }
+            })
+            .collect()
     }
 }
 

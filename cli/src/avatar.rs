@@ -14,7 +14,7 @@ use likeness::avatar::registration::find_face::{FaceRegistration, cache_key, fin
 use likeness::avatar::retargeting::{Retargeting, retarget};
 use likeness::io::atomic_write::write_atomically;
 use likeness::personalize::{Method, personalize};
-use likeness::{Blendshape, Blendshapes, Session};
+use likeness::{Blendshape, Session};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -74,29 +74,6 @@ struct Timings {
     write: f64,
 }
 
-/// The generic ARKit template of `session` as blendshapes (the mask the
-/// face is found with).
-fn template_rig(session: &Session) -> Result<Blendshapes, Box<dyn std::error::Error>> {
-    let neutral: Vec<glam::DVec3> = session
-        .template
-        .neutral
-        .iter()
-        .map(|p| p.as_dvec3())
-        .collect();
-    let deltas = session
-        .template
-        .shapes
-        .iter()
-        .map(|s| {
-            s.iter()
-                .zip(&neutral)
-                .map(|(p, n)| p.as_dvec3() - *n)
-                .collect()
-        })
-        .collect();
-    Ok(Blendshapes::new(neutral, deltas)?)
-}
-
 /// The default avatar as GLB bytes.
 fn default_glb_bytes(name: &Path) -> Result<Vec<u8>, Box<dyn std::error::Error>> {
     let built = likeness_sim::default_avatar::default_avatar();
@@ -120,7 +97,7 @@ pub fn demo_avatar(session: &Session, method: Method) -> CliResult {
     let started = Instant::now();
     let personalized = personalize(session, method)?;
     let glb = default_glb()?;
-    let rig = template_rig(session)?;
+    let rig = session.template.blendshapes()?;
     let registration = find_face(&glb.avatar, &session.topology, &rig)?;
     let retargeting = retarget(&glb.avatar, &registration, &personalized.shapes)?;
     let (lo, hi) = retargeting.weight_range();
@@ -199,7 +176,7 @@ pub fn avatar_command(args: &AvatarArgs) -> CliResult {
     steps.inc(1);
 
     let clock = Instant::now();
-    let rig = template_rig(&session)?;
+    let rig = session.template.blendshapes()?;
     let dir = args.cache_dir.clone().unwrap_or_else(default_cache_dir);
     let key = cache_key(avatar, &rig);
     let (registration, cached): (FaceRegistration, bool) = match cache::load(&dir, &key) {

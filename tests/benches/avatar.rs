@@ -3,7 +3,6 @@
 //! Measures; asserts nothing.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use glam::DVec3;
 use likeness::Blendshapes;
 use likeness::avatar::registration::find_face;
 use likeness::avatar::retargeting::retarget;
@@ -13,19 +12,9 @@ use likeness_sim::template::generic_template;
 use std::hint::black_box;
 
 fn rig() -> Blendshapes {
-    let t = generic_template();
-    let neutral: Vec<DVec3> = t.neutral.iter().map(|p| p.as_dvec3()).collect();
-    let deltas = t
-        .shapes
-        .iter()
-        .map(|s| {
-            s.iter()
-                .zip(&neutral)
-                .map(|(p, n)| p.as_dvec3() - *n)
-                .collect()
-        })
-        .collect();
-    Blendshapes::new(neutral, deltas).expect("a checked template")
+    generic_template()
+        .blendshapes()
+        .expect("a checked template")
 }
 
 fn avatar(c: &mut Criterion) {

@@ -13,19 +13,9 @@ use std::collections::HashMap;
 
 /// The generic template as blendshapes (neutral + deltas, f64).
 fn rig() -> Blendshapes {
-    let t = generic_template();
-    let neutral: Vec<DVec3> = t.neutral.iter().map(|p| p.as_dvec3()).collect();
-    let deltas = t
-        .shapes
-        .iter()
-        .map(|s| {
-            s.iter()
-                .zip(&neutral)
-                .map(|(p, n)| p.as_dvec3() - *n)
-                .collect()
-        })
-        .collect();
-    Blendshapes::new(neutral, deltas).expect("a checked template")
+    generic_template()
+        .blendshapes()
+        .expect("a checked template")
 }
 
 /// The mask split 1-to-4 and moved by `placement`: the avatar, and for each

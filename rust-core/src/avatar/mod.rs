@@ -6,7 +6,7 @@
 //! | §3.3 "the provided full-body avatar" | meshes in world space, their morph targets | [`model`] |
 //! | §3.3 "the avatar's blendshapes" | target names to ARKit's 52, split halves | [`target_names`] |
 //! | (glTF 2.0, not in the paper) | glTF / GLB read, written back with new targets, written new | [`glb`] |
-//! | §3.3 "non-rigid registration [1]", "ICP with scaling [52]" | finding the face, the map `M` | [`registration`] |
+//! | §3.3 "non-rigid registration \[1\]", "ICP with scaling \[52\]" | finding the face, the map `M` | [`registration`] |
 //! | §3.3, Eq. (4) | automatic retargeting `A_j`, the 52 × k weight map | [`retargeting`] |
 
 pub mod glb;

@@ -11,9 +11,9 @@
 //! person's left, +y up, +z out of the face towards the camera.
 
 use super::error::SessionError;
-use crate::arkit::{BLENDSHAPE_COUNT, Blendshape, Weights};
+use crate::arkit::{BLENDSHAPE_COUNT, Blendshape, Blendshapes, BlendshapesError, Weights};
 use crate::geometry::topology::Topology;
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 
 /// Where a session was recorded.
 #[derive(Clone, Debug, PartialEq, Eq, Default)]
@@ -57,6 +57,25 @@ impl Template {
             .zip(&self.neutral)
             .map(|(s, n)| *s - *n)
             .collect()
+    }
+
+    /// The template as blendshapes (neutral and deltas, double precision):
+    /// the generic rig whose face is found on an avatar (§3.3). An error if
+    /// a shape's vertex count differs from the neutral's or a position is
+    /// not finite.
+    pub fn blendshapes(&self) -> Result<Blendshapes, BlendshapesError> {
+        let neutral: Vec<DVec3> = self.neutral.iter().map(|p| p.as_dvec3()).collect();
+        let deltas = self
+            .shapes
+            .iter()
+            .map(|s| {
+                s.iter()
+                    .zip(&neutral)
+                    .map(|(p, n)| p.as_dvec3() - *n)
+                    .collect()
+            })
+            .collect();
+        Blendshapes::new(neutral, deltas)
     }
 }
 

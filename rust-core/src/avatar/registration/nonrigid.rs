@@ -1,5 +1,5 @@
 //! Non-rigid registration of the mask onto the avatar's face surface, in
-//! the spirit of Achenbach et al. 2017 (the paper's [1]): a closest-point
+//! the spirit of Achenbach et al. 2017 (the paper's \[1\]): a closest-point
 //! data term, a smoothness term on the displacement, and a few outer
 //! iterations from stiff to supple.
 //!

@@ -1,5 +1,5 @@
 //! ICP with scale (Zinßer, Schmidt & Niemann 2005, "Point set registration
-//! with integrated scale estimation", PRIP; the paper's [52]): the ARKit
+//! with integrated scale estimation", PRIP; the paper's \[52\]): the ARKit
 //! mask's vertices are moved by a similarity onto the avatar's surface.
 //!
 //! Each iteration pairs every transformed mask vertex `x_i` with its

@@ -8,9 +8,11 @@
 //! | (glTF 2.0, not in the paper) | glTF / GLB read, written back with new targets, written new | [`glb`] |
 //! | §3.3 "non-rigid registration \[1\]", "ICP with scaling \[52\]" | finding the face, the map `M` | [`registration`] |
 //! | §3.3, Eq. (4) | automatic retargeting `A_j`, the 52 × k weight map | [`retargeting`] |
+//! | §3.3, Fig. 3 | seamless partial deformation transfer: the person's shapes implanted | [`partial_transfer`] |
 
 pub mod glb;
 pub mod model;
+pub mod partial_transfer;
 pub mod registration;
 pub mod retargeting;
 pub mod target_names;

@@ -1,0 +1,166 @@
+//! Step 2 of the seamless partial deformation transfer (§3.3, Fig. 3): the
+//! region next to the face (under the chin, the neck, around the ears)
+//! deformed from the automatic retargeting `A_j`, with the face fixed.
+//!
+//! The adjacent region `N` is every vertex of the face's parts that moves
+//! in some `A_j` and is not a face vertex. With `D_F` the face step's
+//! displacement, the result is `D = A_j + C`: `A_j` with a correction `C`
+//! that is `D_F − A_j` on the face, zero beyond `N`, and as smooth as can
+//! be in between. Smooth means bi-Laplacian: `C` minimizes `Σ_r ‖(L C)_r‖²`
+//! over the rows `r` of `N` and of the face vertices next to it (`L` the
+//! uniform graph Laplacian of the parts' triangles), so it leaves the face
+//! with the face's own slope, not only its position, and the skin bends
+//! across the border no more than on either side of it. With `R` those rows
+//! and `F` the face,
+//!
+//! ```text
+//! (L_RNᵀ L_RN) C_N = − L_RNᵀ L_RF C_F.
+//! ```
+//!
+//! The matrix depends only on the avatar: factored once, every shape is a
+//! solve. Vertices outside the face and `N` stay exactly where the avatar
+//! has them; a vertex of `N` that a particular `A_j` does not move may take
+//! a small part of `C`.
+
+use faer::linalg::solvers::Solve;
+use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
+use faer::sparse::{SparseColMat, Triplet};
+use faer::{Mat, Side};
+use glam::DVec3;
+use std::collections::{BTreeSet, HashMap};
+
+/// One row of `L` restricted: its entries on `N` (local indices) and on the
+/// face (avatar indices).
+struct Row {
+    on_region: Vec<(usize, f64)>,
+    on_face: Vec<(u32, f64)>,
+}
+
+/// The adjacent region of an avatar, its system factored.
+pub struct AdjacentStep {
+    /// Avatar vertices of `N`, increasing.
+    region: Vec<u32>,
+    rows: Vec<Row>,
+    llt: Option<Llt<usize, f64>>,
+}
+
+impl AdjacentStep {
+    /// Prepares `N` (module docs) from the parts' `triangles` (avatar
+    /// indices), the face vertices `face` and `moving` (whether a vertex
+    /// moves in some `A_j`), all indexed by avatar vertex.
+    pub fn new(triangles: &[[u32; 3]], face: &[bool], moving: &[bool]) -> AdjacentStep {
+        let n = face.len().min(moving.len());
+        let mut neighbours: HashMap<u32, BTreeSet<u32>> = HashMap::new();
+        for t in triangles {
+            if t.iter().any(|&v| v as usize >= n) {
+                continue;
+            }
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                if a != b {
+                    neighbours.entry(a).or_default().insert(b);
+                    neighbours.entry(b).or_default().insert(a);
+                }
+            }
+        }
+        let region: Vec<u32> = (0..n as u32)
+            .filter(|&v| moving[v as usize] && !face[v as usize] && neighbours.contains_key(&v))
+            .collect();
+        let local: HashMap<u32, usize> = region.iter().enumerate().map(|(i, v)| (*v, i)).collect();
+        // The rows: every vertex of N, and every face vertex next to N.
+        let mut row_vertices: BTreeSet<u32> = region.iter().copied().collect();
+        for v in &region {
+            row_vertices.extend(neighbours[v].iter().copied().filter(|u| face[*u as usize]));
+        }
+        let rows: Vec<Row> = row_vertices
+            .iter()
+            .map(|r| {
+                let around = &neighbours[r];
+                let mut row = Row {
+                    on_region: Vec::new(),
+                    on_face: Vec::new(),
+                };
+                let mut put = |v: u32, value: f64| {
+                    if let Some(&i) = local.get(&v) {
+                        row.on_region.push((i, value));
+                    } else if face[v as usize] {
+                        row.on_face.push((v, value));
+                    }
+                };
+                put(*r, around.len() as f64);
+                for u in around {
+                    put(*u, -1.0);
+                }
+                row
+            })
+            .collect();
+        let m = region.len();
+        let mut entries = Vec::new();
+        for row in &rows {
+            for &(a, x) in &row.on_region {
+                for &(b, y) in &row.on_region {
+                    if a >= b {
+                        entries.push(Triplet::new(a, b, x * y));
+                    }
+                }
+            }
+        }
+        // A tiny diagonal keeps a piece of N that touches nothing outside
+        // itself definite (it then stays at C = 0).
+        for i in 0..m {
+            entries.push(Triplet::new(i, i, 1e-9));
+        }
+        let llt = SparseColMat::<usize, f64>::try_new_from_triplets(m, m, &entries)
+            .ok()
+            .and_then(|matrix| {
+                let symbolic = SymbolicLlt::try_new(matrix.symbolic(), Side::Lower).ok()?;
+                Llt::try_new_with_symbolic(symbolic, matrix.as_ref(), Side::Lower).ok()
+            });
+        AdjacentStep { region, rows, llt }
+    }
+
+    /// The avatar vertices of `N`.
+    pub fn region(&self) -> &[u32] {
+        &self.region
+    }
+
+    /// Completes each shape's displacement `full[j]` (all avatar vertices:
+    /// `A_j` everywhere but the face, the face step's result there) on `N`:
+    /// `A_j + C` (module docs). `retargeted[j]` is `A_j`. Returns whether
+    /// the system could be solved (nothing is changed otherwise).
+    pub fn complete(&self, full: &mut [Vec<DVec3>], retargeted: &[Vec<DVec3>]) -> bool {
+        let Some(llt) = &self.llt else {
+            return self.region.is_empty();
+        };
+        let m = self.region.len();
+        let shapes = full.len().min(retargeted.len());
+        let mut rhs = Mat::<f64>::zeros(m, 3 * shapes);
+        for j in 0..shapes {
+            for row in &self.rows {
+                // (L_RF C_F)_r
+                let mut known = DVec3::ZERO;
+                for &(u, x) in &row.on_face {
+                    let u = u as usize;
+                    if let (Some(d), Some(a)) = (full[j].get(u), retargeted[j].get(u)) {
+                        known += (*d - *a) * x;
+                    }
+                }
+                for &(i, x) in &row.on_region {
+                    for axis in 0..3 {
+                        rhs[(i, 3 * j + axis)] -= x * known[axis];
+                    }
+                }
+            }
+        }
+        llt.solve_in_place(&mut rhs);
+        for j in 0..shapes {
+            for (i, &v) in self.region.iter().enumerate() {
+                let v = v as usize;
+                if let (Some(d), Some(a)) = (full[j].get_mut(v), retargeted[j].get(v)) {
+                    *d = *a + DVec3::new(rhs[(i, 3 * j)], rhs[(i, 3 * j + 1)], rhs[(i, 3 * j + 2)]);
+                }
+            }
+        }
+        true
+    }
+}

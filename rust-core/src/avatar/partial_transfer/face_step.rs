@@ -1,0 +1,283 @@
+//! Step 1 of the seamless partial deformation transfer (§3.3, Fig. 3): the
+//! personalized deformation of the mask carried onto the avatar's face
+//! region, in the gradient domain.
+//!
+//! Every avatar face triangle `t` whose corners `M` maps into one mask
+//! triangle `s(t)` (the triangle correspondence of Sumner & Popović 2004)
+//! takes that triangle's deformation: the mask's
+//! displacement gradient `Q_s − I` (from the person's neutral `B₀` to
+//! `B₀ + B_j`), turned into the avatar's frame by the registration's
+//! rotation `R`,
+//!
+//! ```text
+//! G_t = R (Q_{s(t)} − I) Rᵀ
+//! ```
+//!
+//! A triangle whose corners map into different mask triangles straddles a
+//! mask edge, where the mask's gradient jumps; there the gradient of the
+//! mapped displacement `M B_j` itself, on `t`'s rest shape, is taken:
+//! `G_t = (V'_t − V_t) V_t⁻¹` with `V'_t` the edge matrix of `t` moved by
+//! `M B_j` (by the mouth corners, where the lips move apart, a single mask
+//! triangle's gradient would pull the lips' ends 5 mm off)
+//!
+//! (a gradient is scale-free: the registration's scale cancels). The face
+//! patch's displacement `D` then minimizes
+//!
+//! ```text
+//! Σ_t A_t ‖∇D_t − G_t‖²_F + Σ_v κ L_vv ‖D_v − (M B_j)_v‖²,
+//! (L + κ diag L) D = Σ_t A_t G_t ∇φ + κ diag L · M B_j,
+//! ```
+//!
+//! with `L` the patch's cotangent Laplacian (`L_vi = Σ_t A_t ∇φ_v · ∇φ_i`)
+//! and the weak anchor ([`ANCHOR`] κ) to the mapped displacement `M B_j`
+//! fixing what gradients cannot see (the translation) and nothing else: it
+//! is relative to `L`'s own diagonal, so unit-free. The matrix depends only
+//! on the avatar: factored once, all 52 shapes are one solve with 156
+//! right-hand sides. The gradients act on the avatar's own triangles, so
+//! the avatar keeps its face's proportions and detail while moving as the
+//! person's mask does.
+
+use crate::avatar::registration::CorrespondenceMap;
+use crate::geometry::deformation_gradient::{RestTriangle, hat_gradients, triangle_area};
+use faer::linalg::solvers::Solve;
+use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
+use faer::sparse::{SparseColMat, Triplet};
+use faer::{Mat, Side};
+use glam::{DMat3, DVec3};
+use std::collections::HashMap;
+
+/// κ: the anchor's weight relative to the Laplacian's diagonal.
+pub const ANCHOR: f64 = 1e-3;
+
+/// Why the face step cannot be prepared or run.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum FaceStepError {
+    /// No avatar triangle lies wholly in the face region.
+    #[error("no avatar triangle lies wholly in the face region")]
+    EmptyPatch,
+    /// The patch's system could not be factored.
+    #[error("the face patch's system could not be factored: {0}")]
+    Factor(String),
+    /// The mask shapes do not match the map.
+    #[error("the mask has {found} vertices, the correspondence map expects at least {expected}")]
+    MaskSize {
+        /// Vertices the map refers to.
+        expected: usize,
+        /// Vertices given.
+        found: usize,
+    },
+}
+
+/// The face patch of an avatar, its system factored.
+pub struct FaceStep {
+    /// Avatar vertex of each patch vertex (the map's face vertices, in order).
+    vertices: Vec<u32>,
+    /// Patch triangles (patch indices), their hat gradients and areas.
+    triangles: Vec<[u32; 3]>,
+    hats: Vec<[DVec3; 3]>,
+    areas: Vec<f64>,
+    /// The mask triangle each patch triangle takes its gradient from, or
+    /// `None` where its corners map into different mask triangles.
+    sources: Vec<Option<u32>>,
+    /// Each patch triangle's rest corners and rest shape (for the
+    /// straddling ones).
+    corners: Vec<[DVec3; 3]>,
+    rests: Vec<Option<RestTriangle>>,
+    /// `κ L_vv` per patch vertex.
+    anchor: Vec<f64>,
+    llt: Llt<usize, f64>,
+}
+
+impl FaceStep {
+    /// Prepares the patch of `map` on the avatar with `positions` and
+    /// `triangles` (avatar indices): the triangles whose corners are all
+    /// face vertices.
+    pub fn new(
+        positions: &[DVec3],
+        triangles: &[[u32; 3]],
+        map: &CorrespondenceMap,
+    ) -> Result<FaceStep, FaceStepError> {
+        let local: HashMap<u32, u32> = map
+            .face
+            .iter()
+            .enumerate()
+            .map(|(i, f)| (f.vertex, i as u32))
+            .collect();
+        let n = map.face.len();
+        let (mut patch, mut hats, mut areas, mut sources) = (vec![], vec![], vec![], vec![]);
+        let (mut rests, mut corners) = (Vec::new(), Vec::new());
+        for t in triangles {
+            let Some(l) = t
+                .iter()
+                .map(|v| local.get(v).copied())
+                .collect::<Option<Vec<u32>>>()
+            else {
+                continue;
+            };
+            let Some(x) = t
+                .iter()
+                .map(|&v| positions.get(v as usize).copied())
+                .collect::<Option<Vec<DVec3>>>()
+            else {
+                continue;
+            };
+            let x = [x[0], x[1], x[2]];
+            let Some(hat) = hat_gradients(x) else {
+                continue;
+            };
+            let mapped_into: Vec<u32> = l.iter().map(|&i| map.face[i as usize].triangle).collect();
+            let s = (mapped_into[0] == mapped_into[1] && mapped_into[1] == mapped_into[2])
+                .then_some(mapped_into[0]);
+            rests.push(RestTriangle::new(x));
+            corners.push(x);
+            patch.push([l[0], l[1], l[2]]);
+            hats.push(hat);
+            areas.push(triangle_area(x));
+            sources.push(s);
+        }
+        if patch.is_empty() {
+            return Err(FaceStepError::EmptyPatch);
+        }
+        let mut diagonal = vec![0.0; n];
+        let mut entries = Vec::with_capacity(9 * patch.len() + n);
+        for ((t, hat), a) in patch.iter().zip(&hats).zip(&areas) {
+            for k in 0..3 {
+                diagonal[t[k] as usize] += a * hat[k].length_squared();
+                for i in 0..3 {
+                    let (row, col) = (t[k] as usize, t[i] as usize);
+                    if row >= col {
+                        entries.push(Triplet::new(row, col, a * hat[k].dot(hat[i])));
+                    }
+                }
+            }
+        }
+        // A vertex in no patch triangle is held by the anchor alone, at a
+        // weight that keeps the system definite.
+        let typical = diagonal.iter().sum::<f64>() / n.max(1) as f64;
+        let anchor: Vec<f64> = diagonal
+            .iter()
+            .map(|d| {
+                std::env::var("LK_K")
+                    .ok()
+                    .and_then(|v| v.parse::<f64>().ok())
+                    .unwrap_or(ANCHOR)
+                    * if *d > 0.0 { *d } else { typical.max(1.0) }
+            })
+            .collect();
+        for (v, a) in anchor.iter().enumerate() {
+            entries.push(Triplet::new(v, v, *a));
+        }
+        let factor = |e: String| FaceStepError::Factor(e);
+        let matrix = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &entries)
+            .map_err(|e| factor(format!("{e:?}")))?;
+        let symbolic = SymbolicLlt::try_new(matrix.symbolic(), Side::Lower)
+            .map_err(|e| factor(format!("{e:?}")))?;
+        let llt = Llt::try_new_with_symbolic(symbolic, matrix.as_ref(), Side::Lower)
+            .map_err(|e| factor(format!("{e:?}")))?;
+        Ok(FaceStep {
+            vertices: map.face.iter().map(|f| f.vertex).collect(),
+            triangles: patch,
+            hats,
+            areas,
+            sources,
+            corners,
+            rests,
+            anchor,
+            llt,
+        })
+    }
+
+    /// The avatar vertex of each patch vertex.
+    pub fn vertices(&self) -> &[u32] {
+        &self.vertices
+    }
+
+    /// The patch's displacement for each shape (module docs): `rest` and
+    /// `deltas` the person's mask (neutral and per-shape displacements, mask
+    /// topology `mask_triangles`), `rotation` the registration's (mask →
+    /// avatar), `mapped[j]` the anchor `M B_j` at the patch vertices (avatar
+    /// frame). One displacement per patch vertex per shape.
+    pub fn transfer(
+        &self,
+        rest: &[DVec3],
+        deltas: &[&[DVec3]],
+        mask_triangles: &[[u32; 3]],
+        rotation: DMat3,
+        mapped: &[Vec<DVec3>],
+    ) -> Result<Vec<Vec<DVec3>>, FaceStepError> {
+        let needed = mask_triangles
+            .iter()
+            .flatten()
+            .map(|&i| i as usize + 1)
+            .max()
+            .unwrap_or(0);
+        if let Some(short) = std::iter::once(rest.len())
+            .chain(deltas.iter().map(|d| d.len()))
+            .find(|l| *l < needed)
+        {
+            return Err(FaceStepError::MaskSize {
+                expected: needed,
+                found: short,
+            });
+        }
+        let n = self.vertices.len();
+        let shapes = deltas.len();
+        // The mask's displacement gradients, shape by shape.
+        let rests: Vec<Option<RestTriangle>> = mask_triangles
+            .iter()
+            .map(|t| RestTriangle::new(t.map(|i| rest[i as usize])))
+            .collect();
+        let mut rhs = Mat::<f64>::zeros(n, 3 * shapes);
+        for (j, delta) in deltas.iter().enumerate() {
+            let gradients: Vec<DMat3> = mask_triangles
+                .iter()
+                .zip(&rests)
+                .map(|(t, r)| match r {
+                    Some(r) => {
+                        let deformed = t.map(|i| rest[i as usize] + delta[i as usize]);
+                        rotation * r.displacement_gradient(deformed) * rotation.transpose()
+                    }
+                    None => DMat3::ZERO,
+                })
+                .collect();
+            let anchor = mapped.get(j);
+            for (p, t) in self.triangles.iter().enumerate() {
+                let g = match (self.sources[p], &self.rests[p], anchor) {
+                    (Some(s), _, _) => gradients.get(s as usize).copied().unwrap_or(DMat3::ZERO),
+                    (None, Some(rest), Some(m)) => {
+                        let moved = |k: usize| {
+                            self.corners[p][k]
+                                + m.get(t[k] as usize).copied().unwrap_or(DVec3::ZERO)
+                        };
+                        rest.displacement_gradient([moved(0), moved(1), moved(2)])
+                    }
+                    _ => DMat3::ZERO,
+                };
+                let (hat, a) = (self.hats[p], self.areas[p]);
+                for k in 0..3 {
+                    let r = g * hat[k] * a;
+                    for axis in 0..3 {
+                        rhs[(t[k] as usize, 3 * j + axis)] += r[axis];
+                    }
+                }
+            }
+            for v in 0..n {
+                let target = anchor
+                    .and_then(|m| m.get(v))
+                    .copied()
+                    .unwrap_or(DVec3::ZERO);
+                for axis in 0..3 {
+                    rhs[(v, 3 * j + axis)] += self.anchor[v] * target[axis];
+                }
+            }
+        }
+        self.llt.solve_in_place(&mut rhs);
+        Ok((0..shapes)
+            .map(|j| {
+                (0..n)
+                    .map(|v| DVec3::new(rhs[(v, 3 * j)], rhs[(v, 3 * j + 1)], rhs[(v, 3 * j + 2)]))
+                    .collect()
+            })
+            .collect())
+    }
+}

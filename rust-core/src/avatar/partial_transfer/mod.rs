@@ -1,0 +1,130 @@
+//! §3.3, the seamless partial deformation transfer (Fig. 3): the person's
+//! shapes implanted into the avatar. Step 1 carries the personalized mask's
+//! deformation onto the avatar's face region in the gradient domain; step 2
+//! deforms the region next to it from the automatic retargeting `A_j`
+//! with the face fixed; everything else (eyeballs, teeth, tongue, the back
+//! of the head) follows `A_j`, which is zero where the avatar's own shapes
+//! do not move it.
+//!
+//! | paper | what | file |
+//! |---|---|---|
+//! | §3.3 "deformation transfer to only the avatar's face using the precomputed correspondence mapping" | step 1 | [`face_step`] |
+//! | §3.3 "the vertices in the adjacent area … are non-rigidly deformed from `A_j`" | step 2 | [`adjacent_step`] |
+
+pub mod adjacent_step;
+pub mod face_step;
+
+use super::model::Avatar;
+use super::registration::FaceRegistration;
+use super::retargeting::{RetargetError, Retargeting, mapped_shapes};
+use crate::arkit::{Blendshape, Blendshapes};
+use adjacent_step::AdjacentStep;
+use face_step::{FaceStep, FaceStepError};
+use glam::{DVec3, Vec3};
+
+/// Why the shapes could not be implanted.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ImplantError {
+    /// Step 1 failed.
+    #[error("face step: {0}")]
+    Face(#[from] FaceStepError),
+    /// The personalized shapes do not fit the registration.
+    #[error(transparent)]
+    Mask(#[from] RetargetError),
+    /// Step 2's system could not be solved.
+    #[error("the region next to the face could not be solved")]
+    Adjacent,
+}
+
+/// The person's 52 shapes on the avatar, and what each step covered.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Implanted {
+    /// For each ARKit shape (Apple's order), the displacement of every
+    /// avatar vertex (as `Avatar::positions`).
+    pub shapes: Vec<Vec<Vec3>>,
+    /// Avatar vertices set by step 1 (the face region).
+    pub face_vertices: usize,
+    /// Avatar vertices set by step 2 (next to the face).
+    pub adjacent_vertices: usize,
+}
+
+/// Implants `personalized` (the person's neutral `B₀` and 52 deltas, mask
+/// topology `mask_triangles`) into `avatar` found by `registration`, with
+/// `retargeting` (Eq. 4 of the same shapes) for what the mask does not
+/// cover (module docs).
+pub fn implant(
+    avatar: &Avatar,
+    registration: &FaceRegistration,
+    retargeting: &Retargeting,
+    personalized: &Blendshapes,
+    mask_triangles: &[[u32; 3]],
+) -> Result<Implanted, ImplantError> {
+    let positions: Vec<DVec3> = avatar.positions().iter().map(|p| p.as_dvec3()).collect();
+    let offsets = avatar.vertex_offsets();
+    let face_part_triangles: Vec<[u32; 3]> = registration
+        .face_parts
+        .iter()
+        .filter_map(|&i| Some((avatar.parts.get(i)?, offsets[i] as u32)))
+        .flat_map(|(part, o)| part.triangles.iter().map(move |t| t.map(|v| v + o)))
+        .collect();
+    let retargeted: Vec<Vec<DVec3>> = retargeting
+        .displacements(avatar)
+        .into_iter()
+        .map(|d| d.into_iter().map(|x| x.as_dvec3()).collect())
+        .collect();
+
+    // Step 1.
+    let face = FaceStep::new(&positions, &face_part_triangles, &registration.map)?;
+    let mapped = mapped_shapes(registration, personalized)?;
+    let deltas: Vec<&[DVec3]> = Blendshape::ALL
+        .iter()
+        .map(|b| personalized.delta(*b))
+        .collect();
+    let on_face = face.transfer(
+        personalized.neutral(),
+        &deltas,
+        mask_triangles,
+        registration.similarity.rotation,
+        &mapped,
+    )?;
+    let mut full = retargeted.clone();
+    for (j, shape) in on_face.iter().enumerate() {
+        for (&v, d) in face.vertices().iter().zip(shape) {
+            if let Some(x) = full[j].get_mut(v as usize) {
+                *x = *d;
+            }
+        }
+    }
+
+    // Step 2, on the parts that hold the face.
+    let n = positions.len();
+    let mut is_face = vec![false; n];
+    for &v in face.vertices() {
+        if let Some(f) = is_face.get_mut(v as usize) {
+            *f = true;
+        }
+    }
+    let mut in_face_parts = vec![false; n];
+    for &i in &registration.face_parts {
+        if i + 1 < offsets.len() {
+            in_face_parts[offsets[i]..offsets[i + 1]]
+                .iter_mut()
+                .for_each(|x| *x = true);
+        }
+    }
+    let moving: Vec<bool> = (0..n)
+        .map(|v| in_face_parts[v] && retargeted.iter().any(|a| a[v] != DVec3::ZERO))
+        .collect();
+    let adjacent = AdjacentStep::new(&face_part_triangles, &is_face, &moving);
+    if !adjacent.complete(&mut full, &retargeted) {
+        return Err(ImplantError::Adjacent);
+    }
+    Ok(Implanted {
+        shapes: full
+            .into_iter()
+            .map(|d| d.into_iter().map(|x| x.as_vec3()).collect())
+            .collect(),
+        face_vertices: face.vertices().len(),
+        adjacent_vertices: adjacent.region().len(),
+    })
+}

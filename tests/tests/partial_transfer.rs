@@ -1,0 +1,218 @@
+//! The seamless partial deformation transfer (§3.3, Fig. 3) on the default
+//! avatar: the generic template implanted gives back the avatar's own
+//! shapes (its face is the template's surface), and a person's shapes meet
+//! the rest of the head without a seam.
+
+use glam::Vec3;
+use likeness::avatar::partial_transfer::implant;
+use likeness::avatar::registration::find_face;
+use likeness::avatar::retargeting::retarget;
+use likeness::{Blendshape, Blendshapes};
+use likeness_sim::default_avatar::default_avatar;
+use likeness_sim::face_mask::face_mask;
+use likeness_sim::template::generic_template;
+
+fn rig() -> Blendshapes {
+    generic_template()
+        .blendshapes()
+        .expect("a checked template")
+}
+
+/// The default avatar's own shapes are the template's, interpolated on its
+/// face and continued past it: implanting the template must give them back
+/// (measured: within 0.035 mm on every shape but the jaw's, jawOpen within
+/// 0.22 mm of its 40 mm and mouthClose 0.31 of 20, at the mouth corners).
+#[test]
+fn the_template_implanted_gives_back_the_avatars_own_shapes() {
+    let built = default_avatar();
+    let avatar = &built.avatar;
+    let mask = face_mask();
+    let rig = rig();
+    let found = find_face(avatar, &mask.topology, &rig).expect("a face");
+    let retargeting = retarget(avatar, &found, &rig).expect("solves");
+    let started = std::time::Instant::now();
+    let implanted = implant(
+        avatar,
+        &found,
+        &retargeting,
+        &rig,
+        mask.topology.triangles(),
+    )
+    .expect("implants");
+    let seconds = started.elapsed().as_secs_f64();
+    eprintln!(
+        "implant: {} face vertices, {} next to them, {:.0} ms for 52 shapes",
+        implanted.face_vertices,
+        implanted.adjacent_vertices,
+        seconds * 1e3
+    );
+    assert!(implanted.adjacent_vertices > 1000);
+    for shape in Blendshape::ALL {
+        let own: Vec<Vec3> = {
+            let mut d = vec![Vec3::ZERO; avatar.vertex_count()];
+            for (m, mesh) in avatar.meshes.iter().enumerate() {
+                if let Some(t) = mesh.target_names.iter().position(|n| n == shape.name()) {
+                    for (o, x) in d.iter_mut().zip(avatar.target_displacement(m, t)) {
+                        *o += x;
+                    }
+                }
+            }
+            d
+        };
+        let got = &implanted.shapes[shape.index()];
+        let reach = own.iter().map(|d| d.length()).fold(0.0, f32::max);
+        let worst = got
+            .iter()
+            .zip(&own)
+            .map(|(a, b)| (*a - *b).length())
+            .fold(0.0, f32::max);
+        assert!(
+            worst <= 0.02 * reach + 5e-5,
+            "{shape}: {:.3} mm off of {:.2} mm",
+            worst * 1e3,
+            reach * 1e3
+        );
+    }
+}
+
+/// Edge-length strain and dihedral-angle change of `shape` (displacement
+/// per avatar vertex) against the rest, over the skin edges of three bands:
+/// the face border (one end in the face region, one not), the ring just
+/// inside (both ends in the face, one of them next to the border) and the
+/// ring just outside. Mean absolute values per band.
+fn seam_statistics(
+    positions: &[Vec3],
+    triangles: &[[u32; 3]],
+    face: &[bool],
+    shape: &[Vec3],
+) -> [(f64, f64); 3] {
+    use std::collections::HashMap;
+    let mut next_to_border = vec![false; positions.len()];
+    let mut edges: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
+    for (t, tri) in triangles.iter().enumerate() {
+        for k in 0..3 {
+            let (a, b) = (tri[k], tri[(k + 1) % 3]);
+            edges.entry((a.min(b), a.max(b))).or_default().push(t);
+            if face[a as usize] != face[b as usize] {
+                next_to_border[a as usize] = true;
+                next_to_border[b as usize] = true;
+            }
+        }
+    }
+    let normal = |t: usize, moved: bool| {
+        let p = |i: u32| positions[i as usize] + if moved { shape[i as usize] } else { Vec3::ZERO };
+        let [a, b, c] = triangles[t];
+        (p(b) - p(a)).cross(p(c) - p(a)).normalize_or_zero()
+    };
+    let mut sums = [(0.0f64, 0.0f64, 0usize); 3];
+    for ((a, b), ts) in &edges {
+        let (fa, fb) = (face[*a as usize], face[*b as usize]);
+        let band = if fa != fb {
+            0
+        } else if fa && (next_to_border[*a as usize] || next_to_border[*b as usize]) {
+            1
+        } else if !fa && (next_to_border[*a as usize] || next_to_border[*b as usize]) {
+            2
+        } else {
+            continue;
+        };
+        let rest = (positions[*b as usize] - positions[*a as usize]).length();
+        let moved = (positions[*b as usize] + shape[*b as usize]
+            - positions[*a as usize]
+            - shape[*a as usize])
+            .length();
+        let strain = ((moved - rest) / rest).abs() as f64;
+
+        let bend = if ts.len() == 2 {
+            let before = normal(ts[0], false).angle_between(normal(ts[1], false));
+            let after = normal(ts[0], true).angle_between(normal(ts[1], true));
+            (after - before).abs() as f64
+        } else {
+            0.0
+        };
+        sums[band].0 += strain;
+        sums[band].1 += bend;
+        sums[band].2 += 1;
+    }
+    sums.map(|(s, b, n)| (s / n.max(1) as f64, b / n.max(1) as f64))
+}
+
+/// The seam statistic on the template implanted, where the truth (the
+/// avatar's own shapes) has no seam: along the face border, and just inside
+/// and outside it, the implant stretches and bends the skin as the avatar's
+/// own jawOpen, mouthSmileLeft and browInnerUp do (within 10%, or 10⁻⁴).
+/// On a person's shapes (committed subject 1) it is printed, not asserted:
+/// jawOpen and mouthSmileLeft meet the criterion of issue 11 (the border no
+/// worse than 1.5 times either side), browInnerUp does not (border strain
+/// 0.0079 against 0.0021 inside and 0.0011 outside); for jawOpen the largest
+/// border strains lie at the mouth corners and along the lip rows, which
+/// `M` leaves out (they lie on the mask's boundary) and step 2 fills.
+#[test]
+fn the_implant_adds_no_seam_where_the_truth_has_none() {
+    use likeness::personalize::{Method, personalize};
+    let session = likeness::session::file::read(likeness_tests::committed::path(1)).expect("reads");
+    let built = default_avatar();
+    let avatar = &built.avatar;
+    let rig = session.template.blendshapes().expect("a template");
+    let found = find_face(avatar, &session.topology, &rig).expect("a face");
+    let skin = built.skin;
+    let offsets = avatar.vertex_offsets();
+    let part = &avatar.parts[skin];
+    let mut face = vec![false; part.positions.len()];
+    for f in &found.map.face {
+        let v = f.vertex as usize;
+        if (offsets[skin]..offsets[skin + 1]).contains(&v) {
+            face[v - offsets[skin]] = true;
+        }
+    }
+    let person = personalize(&session, Method::DEFAULT)
+        .expect("personalizes")
+        .shapes;
+    for (who, shapes) in [("template", &rig), ("subject 1", &person)] {
+        let retargeting = retarget(avatar, &found, shapes).expect("solves");
+        let implanted = implant(
+            avatar,
+            &found,
+            &retargeting,
+            shapes,
+            session.topology.triangles(),
+        )
+        .expect("implants");
+        for shape in [
+            Blendshape::JawOpen,
+            Blendshape::MouthSmileLeft,
+            Blendshape::BrowInnerUp,
+        ] {
+            let d = &implanted.shapes[shape.index()][offsets[skin]..offsets[skin + 1]];
+            let got = seam_statistics(&part.positions, &part.triangles, &face, d);
+            eprintln!(
+                "{who}, {shape}: edge strain border {:.4} inside {:.4} outside {:.4}; dihedral change (rad) border {:.4} inside {:.4} outside {:.4}",
+                got[0].0, got[1].0, got[2].0, got[0].1, got[1].1, got[2].1
+            );
+            if who != "template" {
+                continue;
+            }
+            let index = avatar.meshes[part.mesh]
+                .target_names
+                .iter()
+                .position(|n| n == shape.name())
+                .expect("the avatar has it");
+            let own = seam_statistics(
+                &part.positions,
+                &part.triangles,
+                &face,
+                &part.targets[index],
+            );
+            for (g, o) in got.iter().zip(&own) {
+                assert!(
+                    (g.0 - o.0).abs() <= 0.1 * o.0 + 1e-4,
+                    "{shape}: strain {got:?} against {own:?}"
+                );
+                assert!(
+                    (g.1 - o.1).abs() <= 0.1 * o.1 + 1e-4,
+                    "{shape}: bend {got:?} against {own:?}"
+                );
+            }
+        }
+    }
+}

@@ -1,4 +1,4 @@
-//! Finding the face and Eq. (4) on the default avatar (20,394 vertices in
+//! Finding the face and Eq. (4) on the default avatar (22,077 vertices in
 //! six meshes, 52 targets): `cargo bench -p likeness-tests --bench avatar`.
 //! Measures; asserts nothing.
 
@@ -23,7 +23,7 @@ fn avatar(c: &mut Criterion) {
     let mask = &face_mask().topology;
     let mut group = c.benchmark_group("avatar");
     group.sample_size(10);
-    group.bench_function("find_face (20k-vertex default avatar)", |b| {
+    group.bench_function("find_face (22k-vertex default avatar)", |b| {
         b.iter(|| find_face(black_box(&built.avatar), mask, &rig).expect("a face"))
     });
     let found = find_face(&built.avatar, mask, &rig).expect("a face");

@@ -216,3 +216,76 @@ fn the_implant_adds_no_seam_where_the_truth_has_none() {
         }
     }
 }
+
+/// After the transfer no lid vertex lies inside an eyeball, in any of the
+/// 52 shapes of committed subject 1, nor in a blink with a downward gaze or
+/// a squint with an upward one (measured: the repair had nothing to move
+/// on this subject; its own unit test puts a lid back).
+#[test]
+fn no_lid_ends_inside_an_eyeball() {
+    use likeness::avatar::partial_transfer::eyelid_repair::{Eyeball, repair_eyelids};
+    use likeness::personalize::{Method, personalize};
+    let session = likeness::session::file::read(likeness_tests::committed::path(1)).expect("reads");
+    let person = personalize(&session, Method::DEFAULT)
+        .expect("personalizes")
+        .shapes;
+    let built = default_avatar();
+    let avatar = &built.avatar;
+    let rig = session.template.blendshapes().expect("a template");
+    let found = find_face(avatar, &session.topology, &rig).expect("a face");
+    let retargeting = retarget(avatar, &found, &person).expect("solves");
+    let implanted = implant(
+        avatar,
+        &found,
+        &retargeting,
+        &person,
+        session.topology.triangles(),
+    )
+    .expect("implants");
+    let rest: Vec<glam::DVec3> = avatar.positions().iter().map(|p| p.as_dvec3()).collect();
+    let offsets = avatar.vertex_offsets();
+    let eyeballs: Vec<Eyeball> = built
+        .eyes
+        .iter()
+        .map(|&i| {
+            let o = offsets[i] as u32;
+            Eyeball::new(
+                &rest,
+                avatar.parts[i]
+                    .triangles
+                    .iter()
+                    .map(|t| t.map(|v| v + o))
+                    .collect(),
+            )
+        })
+        .collect();
+    let skin: Vec<u32> = (offsets[built.skin] as u32..offsets[built.skin + 1] as u32).collect();
+    // Counting what a repair with no offset would move counts the vertices inside.
+    let inside = |d: &[Vec3]| {
+        let mut d: Vec<glam::DVec3> = d.iter().map(|x| x.as_dvec3()).collect();
+        repair_eyelids(&rest, &mut d, &skin, &eyeballs, 0.0, 0.01)
+    };
+    eprintln!(
+        "lid vertices repaired over the 52 shapes: {}",
+        implanted.lids_repaired
+    );
+    for shape in Blendshape::ALL {
+        assert_eq!(inside(&implanted.shapes[shape.index()]), 0, "{shape}");
+    }
+    for pair in [
+        [Blendshape::EyeBlinkLeft, Blendshape::EyeLookDownLeft],
+        [Blendshape::EyeSquintRight, Blendshape::EyeLookUpRight],
+    ] {
+        let sum: Vec<Vec3> = implanted.shapes[pair[0].index()]
+            .iter()
+            .zip(&implanted.shapes[pair[1].index()])
+            .map(|(a, b)| *a + *b)
+            .collect();
+        eprintln!(
+            "{} + {}: {} lid vertices inside an eyeball",
+            pair[0],
+            pair[1],
+            inside(&sum)
+        );
+    }
+}

@@ -2,7 +2,8 @@
 //! shapes implanted into the avatar. Step 1 carries the personalized mask's
 //! deformation onto the avatar's face region in the gradient domain; step 2
 //! deforms the region next to it from the automatic retargeting `A_j`
-//! with the face fixed; everything else (eyeballs, teeth, tongue, the back
+//! with the face fixed; a lid that ends inside an eyeball is put back on
+//! it; everything else (eyeballs, teeth, tongue, the back
 //! of the head) follows `A_j`, which is zero where the avatar's own shapes
 //! do not move it.
 //!
@@ -10,8 +11,10 @@
 //! |---|---|---|
 //! | §3.3 "deformation transfer to only the avatar's face using the precomputed correspondence mapping" | step 1 | [`face_step`] |
 //! | §3.3 "the vertices in the adjacent area … are non-rigidly deformed from `A_j`" | step 2 | [`adjacent_step`] |
+//! | §3.3 "moving the eyelid vertices to their closest point on the eyeball surface \[2\]" | no lid inside an eyeball | [`eyelid_repair`] |
 
 pub mod adjacent_step;
+pub mod eyelid_repair;
 pub mod face_step;
 
 use super::model::Avatar;
@@ -19,6 +22,7 @@ use super::registration::FaceRegistration;
 use super::retargeting::{RetargetError, Retargeting, mapped_shapes};
 use crate::arkit::{Blendshape, Blendshapes};
 use adjacent_step::AdjacentStep;
+use eyelid_repair::{Eyeball, LID_OFFSET_MM, NEAR_MM, repair_eyelids};
 use face_step::{FaceStep, FaceStepError};
 use glam::{DVec3, Vec3};
 
@@ -46,6 +50,8 @@ pub struct Implanted {
     pub face_vertices: usize,
     /// Avatar vertices set by step 2 (next to the face).
     pub adjacent_vertices: usize,
+    /// Lid vertices moved out of an eyeball, over all 52 shapes.
+    pub lids_repaired: usize,
 }
 
 /// Implants `personalized` (the person's neutral `B₀` and 52 deltas, mask
@@ -119,6 +125,33 @@ pub fn implant(
     if !adjacent.complete(&mut full, &retargeted) {
         return Err(ImplantError::Adjacent);
     }
+    // Eyelid repair.
+    let eyeballs: Vec<Eyeball> = registration
+        .eyeball_parts
+        .iter()
+        .filter_map(|&i| Some((avatar.parts.get(i)?, offsets[i] as u32)))
+        .map(|(part, o)| {
+            let triangles = part.triangles.iter().map(|t| t.map(|v| v + o)).collect();
+            Eyeball::new(&positions, triangles)
+        })
+        .collect();
+    let skin: Vec<u32> = (0..n as u32)
+        .filter(|&v| in_face_parts[v as usize])
+        .collect();
+    let to_avatar = registration.similarity.scale / 1000.0;
+    let lids_repaired = full
+        .iter_mut()
+        .map(|d| {
+            repair_eyelids(
+                &positions,
+                d,
+                &skin,
+                &eyeballs,
+                LID_OFFSET_MM * to_avatar,
+                NEAR_MM * to_avatar,
+            )
+        })
+        .sum();
     Ok(Implanted {
         shapes: full
             .into_iter()
@@ -126,5 +159,6 @@ pub fn implant(
             .collect(),
         face_vertices: face.vertices().len(),
         adjacent_vertices: adjacent.region().len(),
+        lids_repaired,
     })
 }

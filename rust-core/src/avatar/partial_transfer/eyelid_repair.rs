@@ -1,0 +1,143 @@
+//! Eyelid repair (§3.3, after Achenbach et al. 2015): the mask has no
+//! eyeballs, so a person's lid may pass through the avatar's eyeball in a
+//! transferred shape. Every skin vertex that ends inside an eyeball is
+//! moved to the eyeball's surface, [`LID_OFFSET_MM`] outside it along the
+//! surface normal.
+//!
+//! Inside is judged against the eyeball's own triangles as displaced by the
+//! same shape (an eyeLook turns the eyeball too): with `c` the closest
+//! eyeball point to skin vertex `p` and `n` the outward normal of the
+//! triangle it lies on, `p` is inside when `(p − c) · n < 0`. Eyeball parts
+//! are closed and face outwards (the default avatar's are tested so); only
+//! skin vertices within the eyeball's radius plus [`NEAR_MM`] of its centre
+//! at rest are looked at.
+
+use crate::geometry::closest_point::TriangleGrid;
+use glam::DVec3;
+
+/// How far outside the eyeball a repaired lid vertex is put (mm at the
+/// mask's scale: the registration's scale turns it into avatar units).
+pub const LID_OFFSET_MM: f64 = 0.2;
+
+/// Skin vertices farther than this from the eyeball's sphere at rest (mm,
+/// mask scale) are not looked at.
+pub const NEAR_MM: f64 = 8.0;
+
+/// One eyeball: its triangles (avatar vertex indices) and, at rest, its
+/// centre and radius (largest distance of a vertex from the centre).
+#[derive(Clone, Debug)]
+pub struct Eyeball {
+    /// Triangles, avatar vertex indices.
+    pub triangles: Vec<[u32; 3]>,
+    /// Centre at rest (mean of its vertices).
+    pub centre: DVec3,
+    /// Largest distance of a vertex from the centre at rest.
+    pub radius: f64,
+}
+
+impl Eyeball {
+    /// The eyeball made of `triangles` over `rest` (avatar positions).
+    pub fn new(rest: &[DVec3], triangles: Vec<[u32; 3]>) -> Eyeball {
+        let mut vertices: Vec<u32> = triangles.iter().flatten().copied().collect();
+        vertices.sort_unstable();
+        vertices.dedup();
+        let n = vertices.len().max(1) as f64;
+        let centre = vertices
+            .iter()
+            .filter_map(|&v| rest.get(v as usize))
+            .sum::<DVec3>()
+            / n;
+        let radius = vertices
+            .iter()
+            .filter_map(|&v| rest.get(v as usize))
+            .map(|p| (*p - centre).length())
+            .fold(0.0, f64::max);
+        Eyeball {
+            triangles,
+            centre,
+            radius,
+        }
+    }
+}
+
+/// Repairs one shape's `displacement` (all avatar vertices, `rest` their
+/// positions): every vertex of `skin` that ends inside an eyeball is moved
+/// onto it, `offset` (avatar units) outside. Returns how many were moved.
+pub fn repair_eyelids(
+    rest: &[DVec3],
+    displacement: &mut [DVec3],
+    skin: &[u32],
+    eyeballs: &[Eyeball],
+    offset: f64,
+    near: f64,
+) -> usize {
+    let mut moved = 0;
+    let posed: Vec<DVec3> = rest
+        .iter()
+        .zip(displacement.iter())
+        .map(|(p, d)| *p + *d)
+        .collect();
+    for eyeball in eyeballs {
+        let grid = TriangleGrid::new(&posed, &eyeball.triangles);
+        for &v in skin {
+            let v = v as usize;
+            let (Some(p0), Some(p)) = (rest.get(v), posed.get(v)) else {
+                continue;
+            };
+            if (*p0 - eyeball.centre).length() > eyeball.radius + near {
+                continue;
+            }
+            let Some(c) = grid.closest(*p) else {
+                continue;
+            };
+            let normal = grid.triangle_normal(c.triangle);
+            if (*p - c.point).dot(normal) < 0.0 {
+                displacement[v] = c.point + normal * offset - *p0;
+                moved += 1;
+            }
+        }
+    }
+    moved
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A unit cube centred at the origin, faces outwards.
+    fn cube() -> (Vec<DVec3>, Vec<[u32; 3]>) {
+        let p: Vec<DVec3> = (0..8)
+            .map(|i| DVec3::new((i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64) - 0.5)
+            .collect();
+        let quads = [
+            [0, 2, 3, 1], // z = −½
+            [4, 5, 7, 6], // z = +½
+            [0, 1, 5, 4], // y = −½
+            [2, 6, 7, 3], // y = +½
+            [0, 4, 6, 2], // x = −½
+            [1, 3, 7, 5], // x = +½
+        ];
+        let t = quads
+            .iter()
+            .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
+            .collect();
+        (p, t)
+    }
+
+    #[test]
+    fn a_lid_inside_is_put_back_outside_and_one_outside_is_left() {
+        let (mut rest, triangles) = cube();
+        // Vertex 8 rests outside above the top face and is moved inside by
+        // the shape; vertex 9 stays outside.
+        rest.push(DVec3::new(0.1, 0.1, 0.7));
+        rest.push(DVec3::new(0.0, 0.0, 0.9));
+        let eyeball = Eyeball::new(&rest, triangles);
+        let mut d = vec![DVec3::ZERO; rest.len()];
+        d[8] = DVec3::new(0.0, 0.0, -0.4);
+        let moved = repair_eyelids(&rest, &mut d, &[8, 9], &[eyeball], 0.01, 1.0);
+        assert_eq!(moved, 1);
+        let at = rest[8] + d[8];
+        assert!((at - DVec3::new(0.1, 0.1, 0.51)).length() < 1e-12, "{at}");
+        assert_eq!(d[9], DVec3::ZERO);
+    }
+}

@@ -1,7 +1,7 @@
 //! `likeness avatar`: a session's personalized shapes onto an avatar
-//! (§3.3). This release writes the automatic retargeting `A_j` of Eq. (4)
-//! (the avatar's own blendshapes combined to approximate the person's);
-//! the seamless partial deformation transfer comes next.
+//! (§3.3): the face found (cached), Eq. (4), then the seamless partial
+//! deformation transfer and eyelid repair; `--retargeted` writes the
+//! automatic retargeting `A_j` of Eq. (4) instead.
 
 use crate::CliResult;
 use crate::info::read_session;
@@ -9,6 +9,7 @@ use likeness::avatar::glb::{
     GlbAvatar, NewGlbOptions, NewShapes, check_avatar, new_avatar_glb, read_avatar,
     read_avatar_bytes, write_avatar,
 };
+use likeness::avatar::partial_transfer::implant;
 use likeness::avatar::registration::cache;
 use likeness::avatar::registration::find_face::{FaceRegistration, cache_key, find_face};
 use likeness::avatar::retargeting::{Retargeting, retarget};
@@ -33,6 +34,8 @@ pub struct AvatarArgs {
     pub retarget_map: Option<PathBuf>,
     /// Where registrations are cached.
     pub cache_dir: Option<PathBuf>,
+    /// Write the automatic retargeting `A_j` instead of the person's shapes.
+    pub retargeted: bool,
     /// Print JSON instead of text.
     pub json: bool,
 }
@@ -58,6 +61,11 @@ struct Summary {
     retarget_weight_max: f64,
     retarget_weights_outside_unit_range: usize,
     retarget_worst_relative_residual: f64,
+    /// Vertices set by the face step and the adjacent step, and lid
+    /// vertices put back out of an eyeball (0 when writing `A_j`).
+    implant_face_vertices: usize,
+    implant_adjacent_vertices: usize,
+    lids_repaired: usize,
     seconds: Timings,
     out_bytes: u64,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -71,6 +79,7 @@ struct Timings {
     read_avatar: f64,
     registration: f64,
     retargeting: f64,
+    implant: f64,
     write: f64,
 }
 
@@ -201,12 +210,24 @@ pub fn avatar_command(args: &AvatarArgs) -> CliResult {
     t.retargeting = clock.elapsed().as_secs_f64();
 
     let clock = Instant::now();
+    let (displacements, implanted) = if args.retargeted {
+        (retargeting.displacements(avatar), None)
+    } else {
+        let implanted = implant(
+            avatar,
+            &registration,
+            &retargeting,
+            &personalized.shapes,
+            session.topology.triangles(),
+        )?;
+        (implanted.shapes.clone(), Some(implanted))
+    };
+    t.implant = clock.elapsed().as_secs_f64();
+
+    let clock = Instant::now();
     let offsets = avatar.vertex_offsets();
     let mut shapes = NewShapes::new();
-    for (shape, all) in Blendshape::ALL
-        .into_iter()
-        .zip(retargeting.displacements(avatar))
-    {
+    for (shape, all) in Blendshape::ALL.into_iter().zip(&displacements) {
         let per_part = (0..avatar.parts.len())
             .map(|i| all[offsets[i]..offsets[i + 1]].to_vec())
             .collect();
@@ -226,7 +247,11 @@ pub fn avatar_command(args: &AvatarArgs) -> CliResult {
             .as_ref()
             .map_or("default avatar".to_string(), |p| p.display().to_string()),
         out: args.out.display().to_string(),
-        shapes: "automatic retargeting (Eq. 4): the avatar's own blendshapes combined",
+        shapes: if args.retargeted {
+            "automatic retargeting (Eq. 4): the avatar's own blendshapes combined"
+        } else {
+            "personalized: the person's shapes implanted by seamless partial deformation transfer (§3.3)"
+        },
         method: args.method.to_string(),
         vertices: avatar.vertex_count(),
         morph_targets: retargeting.targets.len(),
@@ -245,6 +270,9 @@ pub fn avatar_command(args: &AvatarArgs) -> CliResult {
             .iter()
             .copied()
             .fold(0.0, f64::max),
+        implant_face_vertices: implanted.as_ref().map_or(0, |i| i.face_vertices),
+        implant_adjacent_vertices: implanted.as_ref().map_or(0, |i| i.adjacent_vertices),
+        lids_repaired: implanted.as_ref().map_or(0, |i| i.lids_repaired),
         seconds: t,
         out_bytes: std::fs::metadata(&args.out).map_or(0, |m| m.len()),
         retarget_map: args.retarget_map.as_ref().map(|p| p.display().to_string()),
@@ -295,18 +323,25 @@ fn print_summary(s: &Summary) {
         s.out_bytes as f64 / 1e6,
         s.shapes
     );
+    if s.implant_face_vertices > 0 {
+        println!(
+            "Implanted: {} face vertices (step 1), {} next to them (step 2), {} lid vertices put back out of an eyeball",
+            s.implant_face_vertices, s.implant_adjacent_vertices, s.lids_repaired
+        );
+    }
     if let Some(map) = &s.retarget_map {
         println!("Wrote the retarget map {map}");
     }
     let t = &s.seconds;
     println!(
-        "Time: session {:.2} s, personalize ({}) {:.2} s, avatar {:.2} s, registration {:.2} s, retargeting {:.3} s, write {:.2} s",
+        "Time: session {:.2} s, personalize ({}) {:.2} s, avatar {:.2} s, registration {:.2} s, retargeting {:.3} s, implant {:.2} s, write {:.2} s",
         t.read_session,
         s.method,
         t.personalize,
         t.read_avatar,
         t.registration,
         t.retargeting,
+        t.implant,
         t.write
     );
 }

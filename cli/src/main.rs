@@ -94,9 +94,8 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
-    /// Put a session's personalized shapes onto an avatar (§3.3) and write
-    /// it as GLB. This release writes the automatic retargeting of Eq. (4):
-    /// the avatar's own blendshapes combined to approximate the person's.
+    /// Put a session's personalized shapes onto an avatar (§3.3: seamless
+    /// partial deformation transfer, eyelid repair) and write it as GLB.
     Avatar {
         /// The session file.
         session: PathBuf,
@@ -117,6 +116,10 @@ enum Command {
         /// Where registrations are cached (default: ~/.cache/likeness).
         #[arg(long, value_name = "DIR")]
         cache_dir: Option<PathBuf>,
+        /// Write the automatic retargeting of Eq. (4) instead: the avatar's
+        /// own blendshapes combined to approximate the person's.
+        #[arg(long)]
+        retargeted: bool,
         /// Print a JSON object instead of text.
         #[arg(long)]
         json: bool,
@@ -159,6 +162,7 @@ fn main() -> ExitCode {
             method,
             retarget_map,
             cache_dir,
+            retargeted,
             json,
         } => avatar::avatar_command(&avatar::AvatarArgs {
             session,
@@ -167,6 +171,7 @@ fn main() -> ExitCode {
             method,
             retarget_map,
             cache_dir,
+            retargeted,
             json,
         }),
         Command::Replay { file, json } => replay::replay_command(&file, json),

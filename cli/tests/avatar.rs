@@ -63,10 +63,13 @@ fn a_session_onto_a_user_avatar_gives_a_glb_a_map_and_a_summary() {
         "{v}"
     );
     assert!(
-        v["shapes"]
-            .as_str()
-            .unwrap()
-            .contains("automatic retargeting")
+        v["shapes"].as_str().unwrap().starts_with("personalized"),
+        "{v}"
+    );
+    assert!(v["implant_face_vertices"].as_u64().unwrap() > 5000, "{v}");
+    assert!(
+        v["implant_adjacent_vertices"].as_u64().unwrap() > 500,
+        "{v}"
     );
 
     // The GLB reads back with all 52 shapes in ARKit's spelling.
@@ -91,11 +94,22 @@ fn a_session_onto_a_user_avatar_gives_a_glb_a_map_and_a_summary() {
     assert_eq!(rows.len(), 52);
     assert!(rows.iter().all(|r| r.as_array().unwrap().len() == k));
 
-    // The second run finds the registration in the cache.
-    let second = likeness(&args);
+    // The second run finds the registration in the cache; --retargeted
+    // writes Eq. (4)'s A_j instead, and says so.
+    let mut again = args.to_vec();
+    again.push("--retargeted");
+    let second = likeness(&again);
     assert!(second.status.success(), "{}", text(&second.stderr));
     let v: serde_json::Value = serde_json::from_slice(&second.stdout).unwrap();
     assert_eq!(v["registration_cached"], true);
+    assert!(
+        v["shapes"]
+            .as_str()
+            .unwrap()
+            .contains("automatic retargeting"),
+        "{v}"
+    );
+    assert_eq!(v["implant_face_vertices"], 0);
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -10,7 +10,8 @@
 //! triangle it lies on, `p` is inside when `(p − c) · n < 0`. Eyeball parts
 //! are closed and face outwards (the default avatar's are tested so); only
 //! skin vertices within the eyeball's radius plus [`NEAR_MM`] of its centre
-//! at rest are looked at.
+//! at rest, and within its bounding sphere in the shape, are looked at (an
+//! eyeball turns about its centre, so the sphere holds it in every shape).
 
 use crate::geometry::closest_point::TriangleGrid;
 use glam::DVec3;
@@ -84,7 +85,11 @@ pub fn repair_eyelids(
             let (Some(p0), Some(p)) = (rest.get(v), posed.get(v)) else {
                 continue;
             };
-            if (*p0 - eyeball.centre).length() > eyeball.radius + near {
+            // Outside the sphere round the eyeball (which turns about its
+            // centre) nothing can be inside it.
+            if (*p0 - eyeball.centre).length() > eyeball.radius + near
+                || (*p - eyeball.centre).length() > eyeball.radius
+            {
                 continue;
             }
             let Some(c) = grid.closest(*p) else {

@@ -1,6 +1,6 @@
 //! The registration cache: finding the face is done once per avatar
 //! topology and kept in a file named after [`super::find_face::cache_key`]
-//! (`face-<vertices>-<crc>.bin`), so the avatar command and the app skip it
+//! (`face-v<rules>-<vertices>-<crc>.bin`), so the avatar command and the app skip it
 //! the next time. The file is a magic, a format version and the
 //! [`FaceRegistration`] as bincode; anything unreadable is treated as a
 //! miss (the registration is then redone and the file rewritten).

@@ -267,8 +267,13 @@ fn eyeball_parts(avatar: &Avatar, offsets: &[usize]) -> Vec<usize> {
         .collect()
 }
 
-/// The key a registration is cached under: the avatar's vertex count and a
-/// CRC-32 of its rest geometry and triangles and of the mask's neutral.
+/// Version of the registration's rules: part of the cache key, so a cached
+/// result from older rules is never taken for a new one.
+pub const REGISTRATION_VERSION: u32 = 1;
+
+/// The key a registration is cached under: the rules' version, the
+/// avatar's vertex count and a CRC-32 of its rest geometry and triangles
+/// and of the mask's neutral.
 pub fn cache_key(avatar: &Avatar, rig: &Blendshapes) -> String {
     let mut hasher = crc32fast::Hasher::new();
     for part in &avatar.parts {
@@ -288,5 +293,9 @@ pub fn cache_key(avatar: &Avatar, rig: &Blendshapes) -> String {
         hasher.update(&p.y.to_le_bytes());
         hasher.update(&p.z.to_le_bytes());
     }
-    format!("{}-{:08x}", avatar.vertex_count(), hasher.finalize())
+    format!(
+        "v{REGISTRATION_VERSION}-{}-{:08x}",
+        avatar.vertex_count(),
+        hasher.finalize()
+    )
 }

@@ -289,3 +289,62 @@ fn no_lid_ends_inside_an_eyeball() {
         );
     }
 }
+
+/// Eyeballs and teeth are found rigid from the avatar's own targets and stay
+/// rigid in every implanted shape (A_j mixes rotations; the mix is replaced
+/// by the closest rigid motion); the tongue, which tongueOut bends, is not
+/// held rigid. Prints what was removed.
+#[test]
+fn eyes_and_teeth_stay_rigid() {
+    use likeness::avatar::partial_transfer::rigid_parts::rigid_deviation;
+    use likeness::personalize::{Method, personalize};
+    let session = likeness::session::file::read(likeness_tests::committed::path(2)).expect("reads");
+    let person = personalize(&session, Method::DEFAULT)
+        .expect("personalizes")
+        .shapes;
+    let built = default_avatar();
+    let avatar = &built.avatar;
+    let rig = session.template.blendshapes().expect("a template");
+    let found = find_face(avatar, &session.topology, &rig).expect("a face");
+    let retargeting = retarget(avatar, &found, &person).expect("solves");
+    let implanted = implant(
+        avatar,
+        &found,
+        &retargeting,
+        &person,
+        session.topology.triangles(),
+    )
+    .expect("implants");
+    for part in built.eyes.iter().chain(&built.teeth) {
+        assert!(
+            implanted.rigid_parts.contains(part),
+            "{} not found rigid",
+            avatar.parts[*part].name
+        );
+    }
+    assert!(!implanted.rigid_parts.contains(&built.tongue));
+    let rest: Vec<glam::DVec3> = avatar.positions().iter().map(|p| p.as_dvec3()).collect();
+    let offsets = avatar.vertex_offsets();
+    for (&part, removed) in implanted
+        .rigid_parts
+        .iter()
+        .zip(&implanted.rigid_deviation_removed)
+    {
+        let vertices: Vec<u32> = (offsets[part] as u32..offsets[part + 1] as u32).collect();
+        let worst = implanted
+            .shapes
+            .iter()
+            .map(|d| {
+                let d: Vec<glam::DVec3> = d.iter().map(|x| x.as_dvec3()).collect();
+                rigid_deviation(&rest, &d, &vertices)
+            })
+            .fold(0.0, f64::max);
+        eprintln!(
+            "{}: A_j's largest deviation from rigid {:.3} mm, after {:.5} mm",
+            avatar.parts[part].name,
+            removed * 1e3,
+            worst * 1e3
+        );
+        assert!(worst < 1e-5, "{}: {worst}", avatar.parts[part].name);
+    }
+}

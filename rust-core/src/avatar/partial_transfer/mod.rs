@@ -11,11 +11,13 @@
 //! |---|---|---|
 //! | §3.3 "deformation transfer to only the avatar's face using the precomputed correspondence mapping" | step 1 | [`face_step`] |
 //! | §3.3 "the vertices in the adjacent area … are non-rigidly deformed from `A_j`" | step 2 | [`adjacent_step`] |
+//! | §3.3 "eye balls and teeth … to their desired position" | rigid parts kept rigid | [`rigid_parts`] |
 //! | §3.3 "moving the eyelid vertices to their closest point on the eyeball surface \[2\]" | no lid inside an eyeball | [`eyelid_repair`] |
 
 pub mod adjacent_step;
 pub mod eyelid_repair;
 pub mod face_step;
+pub mod rigid_parts;
 
 use super::model::Avatar;
 use super::registration::FaceRegistration;
@@ -25,6 +27,7 @@ use adjacent_step::AdjacentStep;
 use eyelid_repair::{Eyeball, LID_OFFSET_MM, NEAR_MM, repair_eyelids};
 use face_step::{FaceStep, FaceStepError};
 use glam::{DVec3, Vec3};
+use rigid_parts::{RIGID_TOLERANCE, make_rigid};
 
 /// Why the shapes could not be implanted.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -52,6 +55,11 @@ pub struct Implanted {
     pub adjacent_vertices: usize,
     /// Lid vertices moved out of an eyeball, over all 52 shapes.
     pub lids_repaired: usize,
+    /// The parts found rigid (every avatar target moves them rigidly).
+    pub rigid_parts: Vec<usize>,
+    /// For each rigid part, the largest deviation from a rigid motion
+    /// that `A_j` had in any shape, removed (avatar units).
+    pub rigid_deviation_removed: Vec<f64>,
 }
 
 /// Implants `personalized` (the person's neutral `B₀` and 52 deltas, mask
@@ -125,6 +133,40 @@ pub fn implant(
     if !adjacent.complete(&mut full, &retargeted) {
         return Err(ImplantError::Adjacent);
     }
+    // Rigid parts: found from the avatar's own targets, then held rigid.
+    let part_vertices = |i: usize| (offsets[i] as u32..offsets[i + 1] as u32).collect::<Vec<u32>>();
+    let own: Vec<Vec<DVec3>> = avatar
+        .target_ids()
+        .into_iter()
+        .map(|(m, t)| {
+            avatar
+                .target_displacement(m, t)
+                .iter()
+                .map(|d| d.as_dvec3())
+                .collect()
+        })
+        .collect();
+    let rigid_parts: Vec<usize> = (0..avatar.parts.len())
+        .filter(|&i| !registration.face_parts.contains(&i))
+        .filter(|&i| {
+            let vertices = part_vertices(i);
+            let tolerance = RIGID_TOLERANCE * rigid_parts::size(&positions, &vertices);
+            vertices.len() >= 3
+                && own
+                    .iter()
+                    .all(|d| rigid_parts::rigid_deviation(&positions, d, &vertices) <= tolerance)
+        })
+        .collect();
+    let rigid_deviation_removed: Vec<f64> = rigid_parts
+        .iter()
+        .map(|&i| {
+            let vertices = part_vertices(i);
+            full.iter_mut()
+                .map(|d| make_rigid(&positions, d, &vertices))
+                .fold(0.0, f64::max)
+        })
+        .collect();
+
     // Eyelid repair.
     let eyeballs: Vec<Eyeball> = registration
         .eyeball_parts
@@ -160,5 +202,7 @@ pub fn implant(
         face_vertices: face.vertices().len(),
         adjacent_vertices: adjacent.region().len(),
         lids_repaired,
+        rigid_parts,
+        rigid_deviation_removed,
     })
 }

@@ -59,6 +59,16 @@ impl Similarity {
 /// `None` when fewer than three pairs carry weight or the `p_i` are all
 /// one point (no scale is defined).
 pub fn fit_similarity(p: &[DVec3], q: &[DVec3], w: &[f64]) -> Option<Similarity> {
+    fit(p, q, w, true)
+}
+
+/// The rigid motion (`s = 1`) minimizing `Σ_i w_i ‖R p_i + t − q_i‖²`:
+/// the same construction with the scale held at 1.
+pub fn fit_rigid(p: &[DVec3], q: &[DVec3], w: &[f64]) -> Option<Similarity> {
+    fit(p, q, w, false)
+}
+
+fn fit(p: &[DVec3], q: &[DVec3], w: &[f64], with_scale: bool) -> Option<Similarity> {
     let total: f64 = w.iter().filter(|w| **w > 0.0).sum();
     if w.iter().filter(|w| **w > 0.0).count() < 3 || total <= 0.0 {
         return None;
@@ -96,7 +106,11 @@ pub fn fit_similarity(p: &[DVec3], q: &[DVec3], w: &[f64]) -> Option<Similarity>
     let s_diag = DVec3::new(1.0, 1.0, flip);
     let rotation = u * DMat3::from_diagonal(s_diag) * v.transpose();
     let d = DVec3::new(d[0], d[1], d[2]);
-    let scale = d.dot(s_diag) / var_p;
+    let scale = if with_scale {
+        d.dot(s_diag) / var_p
+    } else {
+        1.0
+    };
     if !(scale.is_finite() && scale > 0.0) {
         return None;
     }

@@ -36,6 +36,8 @@ pub struct AvatarArgs {
     pub cache_dir: Option<PathBuf>,
     /// Write the automatic retargeting `A_j` instead of the person's shapes.
     pub retargeted: bool,
+    /// Write the personalized face mask alone.
+    pub mask_only: bool,
     /// Print JSON instead of text.
     pub json: bool,
 }
@@ -100,8 +102,12 @@ fn default_glb() -> Result<GlbAvatar, Box<dyn std::error::Error>> {
     Ok(read_avatar_bytes(&bytes, "default avatar")?)
 }
 
+/// Where `likeness demo` writes the person's avatar: in the current folder.
+pub const DEMO_AVATAR: &str = "likeness-demo-avatar.glb";
+
 /// The avatar step of `likeness demo`: the session's personalized shapes
-/// (`method`) onto the default avatar, summarized; nothing is written.
+/// (`method`) implanted into the default avatar, summarized, and written
+/// to [`DEMO_AVATAR`] in the current folder.
 pub fn demo_avatar(session: &Session, method: Method) -> CliResult {
     let started = Instant::now();
     let personalized = personalize(session, method)?;
@@ -109,7 +115,13 @@ pub fn demo_avatar(session: &Session, method: Method) -> CliResult {
     let rig = session.template.blendshapes()?;
     let registration = find_face(&glb.avatar, &session.topology, &rig)?;
     let retargeting = retarget(&glb.avatar, &registration, &personalized.shapes)?;
-    let (lo, hi) = retargeting.weight_range();
+    let implanted = implant(
+        &glb.avatar,
+        &registration,
+        &retargeting,
+        &personalized.shapes,
+        session.topology.triangles(),
+    )?;
     println!(
         "Default avatar: {} vertices in {} meshes; face found on {} of them, registration residual mean {:.3} mm, max {:.3} mm ({:.2} s)",
         glb.avatar.vertex_count(),
@@ -119,14 +131,75 @@ pub fn demo_avatar(session: &Session, method: Method) -> CliResult {
         registration.residual_max_mm,
         registration.seconds
     );
+    let out = Path::new(DEMO_AVATAR);
+    write_avatar(&glb, &per_part_shapes(&glb.avatar, &implanted.shapes), out)?;
+    let absolute = std::fs::canonicalize(out).unwrap_or_else(|_| out.to_path_buf());
     println!(
-        "Automatic retargeting, Eq. (4), {method}: weights {lo:.2} … {hi:.2}, {} of {} outside [0, 1] ({:.2} s in all)",
-        retargeting.outside_unit_range(),
-        retargeting.weights.len() * retargeting.targets.len(),
+        "The person's 52 shapes ({method}) implanted: {} face vertices, {} next to them; {:.2} s in all",
+        implanted.face_vertices,
+        implanted.adjacent_vertices,
         started.elapsed().as_secs_f64()
     );
     println!(
-        "`likeness avatar SESSION --out avatar.glb` writes it; `likeness default-avatar --out FILE` the avatar itself."
+        "Wrote {} ({:.1} MB): open it in Blender (File → Import → glTF) and try its 52 shape keys.",
+        absolute.display(),
+        std::fs::metadata(out).map_or(0, |m| m.len()) as f64 / 1e6
+    );
+    Ok(())
+}
+
+/// `displacements[j]` (all avatar vertices) split per part for the writer.
+fn per_part_shapes(
+    avatar: &likeness::avatar::Avatar,
+    displacements: &[Vec<glam::Vec3>],
+) -> NewShapes {
+    let offsets = avatar.vertex_offsets();
+    let mut shapes = NewShapes::new();
+    for (shape, all) in Blendshape::ALL.into_iter().zip(displacements) {
+        let per_part = (0..avatar.parts.len())
+            .map(|i| all[offsets[i]..offsets[i + 1]].to_vec())
+            .collect();
+        shapes.set(shape, per_part);
+    }
+    shapes
+}
+
+/// `likeness avatar … --mask-only`: the person's personalized face mask
+/// alone (their neutral and 52 shapes, ARKit's face coordinates, metres)
+/// as a GLB.
+fn write_mask(session: &Session, shapes: &likeness::Blendshapes, out: &Path) -> CliResult {
+    use likeness::avatar::{Avatar, AvatarMesh, AvatarPart};
+    let neutral: Vec<glam::Vec3> = shapes.neutral().iter().map(|p| p.as_vec3()).collect();
+    let avatar = Avatar {
+        meshes: vec![AvatarMesh {
+            name: Some("mask".into()),
+            target_names: Blendshape::ALL
+                .iter()
+                .map(|b| b.name().to_string())
+                .collect(),
+        }],
+        parts: vec![AvatarPart {
+            name: "mask".into(),
+            mesh: 0,
+            primitive: 0,
+            positions: neutral,
+            triangles: session.topology.triangles().to_vec(),
+            targets: Blendshape::ALL
+                .iter()
+                .map(|b| shapes.delta(*b).iter().map(|d| d.as_vec3()).collect())
+                .collect(),
+        }],
+    };
+    let options = NewGlbOptions {
+        looks: vec![likeness::avatar::glb::MeshLook::SKIN],
+        ..NewGlbOptions::default()
+    };
+    likeness::avatar::glb::write_new_avatar(&avatar, &options, out)?;
+    println!(
+        "Wrote {} ({:.1} MB): the personalized face mask, {} vertices, 52 shapes",
+        out.display(),
+        std::fs::metadata(out).map_or(0, |m| m.len()) as f64 / 1e6,
+        avatar.vertex_count()
     );
     Ok(())
 }
@@ -173,6 +246,10 @@ pub fn avatar_command(args: &AvatarArgs) -> CliResult {
     let personalized = personalize(&session, args.method)?;
     t.personalize = clock.elapsed().as_secs_f64();
     steps.inc(1);
+    if args.mask_only {
+        steps.finish_and_clear();
+        return write_mask(&session, &personalized.shapes, &args.out);
+    }
 
     let clock = Instant::now();
     let glb = match &args.avatar {
@@ -225,14 +302,7 @@ pub fn avatar_command(args: &AvatarArgs) -> CliResult {
     t.implant = clock.elapsed().as_secs_f64();
 
     let clock = Instant::now();
-    let offsets = avatar.vertex_offsets();
-    let mut shapes = NewShapes::new();
-    for (shape, all) in Blendshape::ALL.into_iter().zip(&displacements) {
-        let per_part = (0..avatar.parts.len())
-            .map(|i| all[offsets[i]..offsets[i + 1]].to_vec())
-            .collect();
-        shapes.set(shape, per_part);
-    }
+    let shapes = per_part_shapes(avatar, &displacements);
     write_avatar(&glb, &shapes, &args.out)?;
     if let Some(map) = &args.retarget_map {
         write_retarget_map(map, &glb, &retargeting)?;

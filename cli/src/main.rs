@@ -120,6 +120,10 @@ enum Command {
         /// own blendshapes combined to approximate the person's.
         #[arg(long)]
         retargeted: bool,
+        /// Write the person's personalized face mask alone (ARKit's mesh,
+        /// their neutral and 52 shapes) instead of an avatar.
+        #[arg(long, conflicts_with_all = ["avatar", "retargeted", "retarget_map"])]
+        mask_only: bool,
         /// Print a JSON object instead of text.
         #[arg(long)]
         json: bool,
@@ -163,6 +167,7 @@ fn main() -> ExitCode {
             retarget_map,
             cache_dir,
             retargeted,
+            mask_only,
             json,
         } => avatar::avatar_command(&avatar::AvatarArgs {
             session,
@@ -172,6 +177,7 @@ fn main() -> ExitCode {
             retarget_map,
             cache_dir,
             retargeted,
+            mask_only,
             json,
         }),
         Command::Replay { file, json } => replay::replay_command(&file, json),

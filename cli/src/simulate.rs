@@ -84,7 +84,7 @@ pub fn demo(seed: Option<u64>) -> CliResult {
     );
     let report = crate::personalize::evaluation_report(&[source], &|_| Ok(session.clone()))?;
     crate::personalize::print_table(&report);
-    println!("\nThe avatar (§3.3; this release: finding the face and Eq. (4)):\n");
+    println!("\nThe avatar (§3.3):\n");
     crate::avatar::demo_avatar(&session, likeness::personalize::Method::DEFAULT)?;
     Ok(())
 }

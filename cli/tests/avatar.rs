@@ -134,3 +134,33 @@ fn a_file_that_is_not_an_avatar_is_a_clear_error() {
     assert!(!dir.join("out.glb").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn the_mask_alone_is_a_glb_of_the_persons_52_shapes() {
+    let dir = scratch("mask");
+    let out = dir.join("mask.glb");
+    let session = likeness_tests::committed::path(2);
+    let run = likeness(&["avatar", &s(&session), "--mask-only", "--out", &s(&out)]);
+    assert!(run.status.success(), "{}", text(&run.stderr));
+    let written = read_avatar(&out).expect("reads");
+    assert_eq!(written.avatar.vertex_count(), 1220);
+    assert_eq!(check_avatar(&written).expect("an avatar").found(), 52);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn the_demo_ends_with_the_persons_avatar_in_the_current_folder() {
+    let dir = scratch("demo");
+    let run = Command::new(env!("CARGO_BIN_EXE_likeness"))
+        .arg("demo")
+        .current_dir(&dir)
+        .output()
+        .expect("runs");
+    assert!(run.status.success(), "{}", text(&run.stderr));
+    let stdout = text(&run.stdout);
+    let glb = dir.join("likeness-demo-avatar.glb");
+    assert!(stdout.contains("likeness-demo-avatar.glb"), "{stdout}");
+    let written = read_avatar(&glb).expect("the demo's avatar reads");
+    assert_eq!(check_avatar(&written).expect("an avatar").found(), 52);
+    let _ = std::fs::remove_dir_all(&dir);
+}

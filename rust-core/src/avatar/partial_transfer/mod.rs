@@ -21,7 +21,7 @@ pub mod rigid_parts;
 
 use super::model::Avatar;
 use super::registration::FaceRegistration;
-use super::retargeting::{RetargetError, Retargeting, mapped_shapes};
+use super::retargeting::{NEGLIGIBLE, RetargetError, Retargeting, mapped_shapes};
 use crate::arkit::{Blendshape, Blendshapes};
 use adjacent_step::AdjacentStep;
 use eyelid_repair::{Eyeball, LID_OFFSET_MM, NEAR_MM, repair_eyelids};
@@ -194,10 +194,27 @@ pub fn implant(
             )
         })
         .sum();
+    // Invisible displacements written as zero, as for `A_j` (they would
+    // keep a sparse target from being sparse).
+    let (lo, hi) = positions.iter().fold(
+        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
+    let cut = NEGLIGIBLE * (hi - lo).length();
     Ok(Implanted {
         shapes: full
             .into_iter()
-            .map(|d| d.into_iter().map(|x| x.as_vec3()).collect())
+            .map(|d| {
+                d.into_iter()
+                    .map(|x| {
+                        if x.length() < cut {
+                            Vec3::ZERO
+                        } else {
+                            x.as_vec3()
+                        }
+                    })
+                    .collect()
+            })
             .collect(),
         face_vertices: face.vertices().len(),
         adjacent_vertices: adjacent.region().len(),

@@ -348,3 +348,90 @@ fn eyes_and_teeth_stay_rigid() {
         assert!(worst < 1e-5, "{}: {worst}", avatar.parts[part].name);
     }
 }
+
+/// How far the person's implanted blink closes the avatar's eye: the
+/// largest distance from a vertex of the avatar's upper lid row (those whose
+/// true mask point lies on the mask's upper lid) to the lower lid row
+/// (committed subject 1). Issue 11 asks for 0.1 mm; measured 1.0 mm, because
+/// the lid rows lie on the mask's boundary, `M` leaves them out and step 2
+/// fills them from `A_j`. Guarded here against getting worse (1.5 mm of an
+/// eye about 10 mm open), not yet at the target.
+#[test]
+fn how_far_the_persons_blink_closes_the_avatars_eye() {
+    use likeness::personalize::{Method, personalize};
+    let session = likeness::session::file::read(likeness_tests::committed::path(1)).expect("reads");
+    let person = personalize(&session, Method::DEFAULT)
+        .expect("personalizes")
+        .shapes;
+    let built = default_avatar();
+    let avatar = &built.avatar;
+    let rig = session.template.blendshapes().expect("a template");
+    let found = find_face(avatar, &session.topology, &rig).expect("a face");
+    let retargeting = retarget(avatar, &found, &person).expect("solves");
+    let implanted = implant(
+        avatar,
+        &found,
+        &retargeting,
+        &person,
+        session.topology.triangles(),
+    )
+    .expect("implants");
+    let mask = face_mask();
+    let tris = mask.topology.triangles();
+    let skin = avatar.vertex_offsets()[built.skin];
+    for (side, shape) in [
+        (0, Blendshape::EyeBlinkLeft),
+        (1, Blendshape::EyeBlinkRight),
+    ] {
+        let corners = [
+            mask.landmarks.eye_inner[side],
+            mask.landmarks.eye_outer[side],
+        ];
+        let row = |lid: &[u32]| -> Vec<usize> {
+            built
+                .true_correspondence
+                .iter()
+                .enumerate()
+                .filter(|(_, m)| {
+                    let t = tris[m.triangle as usize];
+                    let on: Vec<u32> = (0..3)
+                        .filter(|&k| m.barycentric[k] > 1e-9)
+                        .map(|k| t[k])
+                        .collect();
+                    on.iter().all(|i| lid.contains(i) || corners.contains(i))
+                        && on.iter().any(|i| lid.contains(i))
+                })
+                .map(|(v, _)| skin + v)
+                .collect()
+        };
+        let (upper, lower) = (
+            row(&mask.landmarks.upper_lid[side]),
+            row(&mask.landmarks.lower_lid[side]),
+        );
+        assert!(
+            upper.len() >= 5 && lower.len() >= 5,
+            "{} upper, {} lower",
+            upper.len(),
+            lower.len()
+        );
+        let posed = |v: usize| avatar.positions()[v] + implanted.shapes[shape.index()][v];
+        let lower_posed: Vec<glam::Vec3> = lower.iter().map(|&v| posed(v)).collect();
+        let gap = upper
+            .iter()
+            .map(|&u| {
+                let p = posed(u);
+                lower_posed
+                    .iter()
+                    .map(|q| (*q - p).length())
+                    .fold(f32::INFINITY, f32::min)
+            })
+            .fold(0.0, f32::max)
+            / found.similarity.scale as f32
+            * 1000.0;
+        eprintln!(
+            "{shape}: largest lid gap {gap:.3} mm over {} upper-lid vertices",
+            upper.len()
+        );
+        assert!(gap <= 1.5, "{shape}: the lids stay {gap} mm apart");
+    }
+}

@@ -351,8 +351,9 @@ fn eyes_and_teeth_stay_rigid() {
 
 /// How far the person's implanted blink closes the avatar's eye: the
 /// largest distance from a vertex of the avatar's upper lid row (those whose
-/// true mask point lies on the mask's upper lid) to the lower lid row
-/// (committed subject 1). Issue 11 asks for 0.1 mm; measured 1.0 mm, because
+/// true mask point lies on the mask's upper lid) to the lower lid row, as a
+/// polyline (committed subject 1). Issue 11 asks for 0.1 mm; measured
+/// 0.93 mm (left) and 0.84 mm (right), because
 /// the lid rows lie on the mask's boundary, `M` leaves them out and step 2
 /// fills them from `A_j`. Guarded here against getting worse (1.5 mm of an
 /// eye about 10 mm open), not yet at the target.
@@ -414,15 +415,23 @@ fn how_far_the_persons_blink_closes_the_avatars_eye() {
             upper.len(),
             lower.len()
         );
-        let posed = |v: usize| avatar.positions()[v] + implanted.shapes[shape.index()][v];
+        let rest = avatar.positions();
+        let posed = |v: usize| rest[v] + implanted.shapes[shape.index()][v];
+        // The lower lid as a polyline, its vertices in order across the eye.
+        let mut lower = lower;
+        lower.sort_by(|a, b| rest[*a].x.total_cmp(&rest[*b].x));
         let lower_posed: Vec<glam::Vec3> = lower.iter().map(|&v| posed(v)).collect();
+        let to_segment = |p: glam::Vec3, a: glam::Vec3, b: glam::Vec3| {
+            let t = ((p - a).dot(b - a) / (b - a).length_squared().max(1e-20)).clamp(0.0, 1.0);
+            (a + (b - a) * t - p).length()
+        };
         let gap = upper
             .iter()
             .map(|&u| {
                 let p = posed(u);
                 lower_posed
-                    .iter()
-                    .map(|q| (*q - p).length())
+                    .windows(2)
+                    .map(|w| to_segment(p, w[0], w[1]))
                     .fold(f32::INFINITY, f32::min)
             })
             .fold(0.0, f32::max)

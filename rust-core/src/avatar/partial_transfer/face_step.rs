@@ -156,13 +156,7 @@ impl FaceStep {
         let typical = diagonal.iter().sum::<f64>() / n.max(1) as f64;
         let anchor: Vec<f64> = diagonal
             .iter()
-            .map(|d| {
-                std::env::var("LK_K")
-                    .ok()
-                    .and_then(|v| v.parse::<f64>().ok())
-                    .unwrap_or(ANCHOR)
-                    * if *d > 0.0 { *d } else { typical.max(1.0) }
-            })
+            .map(|d| ANCHOR * if *d > 0.0 { *d } else { typical.max(1.0) })
             .collect();
         for (v, a) in anchor.iter().enumerate() {
             entries.push(Triplet::new(v, v, *a));

@@ -59,17 +59,7 @@ fn personalized_beats_automatic_beats_manual_retargeting() {
         let automatic = retargeting.displacements(avatar);
         let own: Vec<Vec<glam::Vec3>> = Blendshape::ALL
             .iter()
-            .map(|b| {
-                let mut d = vec![glam::Vec3::ZERO; avatar.vertex_count()];
-                for (m, mesh) in avatar.meshes.iter().enumerate() {
-                    if let Some(t) = mesh.target_names.iter().position(|n| n == b.name()) {
-                        for (o, x) in d.iter_mut().zip(avatar.target_displacement(m, t)) {
-                            *o += x;
-                        }
-                    }
-                }
-                d
-            })
+            .map(|b| avatar.named_displacement(b.name()))
             .collect();
         let s = found.similarity;
         // The face vertices and the two subsets, as indices into map.face.

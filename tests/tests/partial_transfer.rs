@@ -4,8 +4,8 @@
 //! the rest of the head without a seam.
 
 use glam::Vec3;
-use likeness::avatar::partial_transfer::implant;
-use likeness::avatar::registration::find_face;
+use likeness::avatar::partial_transfer::{Implanted, implant};
+use likeness::avatar::registration::{FaceRegistration, find_face};
 use likeness::avatar::retargeting::retarget;
 use likeness::{Blendshape, Blendshapes};
 use likeness_sim::default_avatar::default_avatar;
@@ -22,6 +22,29 @@ fn rig() -> Blendshapes {
 /// face and continued past it: implanting the template must give them back
 /// (measured: within 0.035 mm on every shape but the jaw's, jawOpen within
 /// 0.22 mm of its 40 mm and mouthClose 0.31 of 20, at the mouth corners).
+/// Committed subject `n`, personalized with the default method and
+/// implanted into the default avatar: the face found and the result.
+fn implanted_subject(n: u64) -> (FaceRegistration, Implanted) {
+    use likeness::personalize::{Method, personalize};
+    let session = likeness::session::file::read(likeness_tests::committed::path(n)).expect("reads");
+    let person = personalize(&session, Method::DEFAULT)
+        .expect("personalizes")
+        .shapes;
+    let avatar = &default_avatar().avatar;
+    let rig = session.template.blendshapes().expect("a template");
+    let found = find_face(avatar, &session.topology, &rig).expect("a face");
+    let retargeting = retarget(avatar, &found, &person).expect("solves");
+    let implanted = implant(
+        avatar,
+        &found,
+        &retargeting,
+        &person,
+        session.topology.triangles(),
+    )
+    .expect("implants");
+    (found, implanted)
+}
+
 #[test]
 fn the_template_implanted_gives_back_the_avatars_own_shapes() {
     let built = default_avatar();
@@ -48,17 +71,7 @@ fn the_template_implanted_gives_back_the_avatars_own_shapes() {
     );
     assert!(implanted.adjacent_vertices > 1000);
     for shape in Blendshape::ALL {
-        let own: Vec<Vec3> = {
-            let mut d = vec![Vec3::ZERO; avatar.vertex_count()];
-            for (m, mesh) in avatar.meshes.iter().enumerate() {
-                if let Some(t) = mesh.target_names.iter().position(|n| n == shape.name()) {
-                    for (o, x) in d.iter_mut().zip(avatar.target_displacement(m, t)) {
-                        *o += x;
-                    }
-                }
-            }
-            d
-        };
+        let own = avatar.named_displacement(shape.name());
         let got = &implanted.shapes[shape.index()];
         let reach = own.iter().map(|d| d.length()).fold(0.0, f32::max);
         let worst = got
@@ -224,24 +237,9 @@ fn the_implant_adds_no_seam_where_the_truth_has_none() {
 #[test]
 fn no_lid_ends_inside_an_eyeball() {
     use likeness::avatar::partial_transfer::eyelid_repair::{Eyeball, repair_eyelids};
-    use likeness::personalize::{Method, personalize};
-    let session = likeness::session::file::read(likeness_tests::committed::path(1)).expect("reads");
-    let person = personalize(&session, Method::DEFAULT)
-        .expect("personalizes")
-        .shapes;
+    let (_, implanted) = implanted_subject(1);
     let built = default_avatar();
     let avatar = &built.avatar;
-    let rig = session.template.blendshapes().expect("a template");
-    let found = find_face(avatar, &session.topology, &rig).expect("a face");
-    let retargeting = retarget(avatar, &found, &person).expect("solves");
-    let implanted = implant(
-        avatar,
-        &found,
-        &retargeting,
-        &person,
-        session.topology.triangles(),
-    )
-    .expect("implants");
     let rest: Vec<glam::DVec3> = avatar.positions().iter().map(|p| p.as_dvec3()).collect();
     let offsets = avatar.vertex_offsets();
     let eyeballs: Vec<Eyeball> = built
@@ -297,24 +295,9 @@ fn no_lid_ends_inside_an_eyeball() {
 #[test]
 fn eyes_and_teeth_stay_rigid() {
     use likeness::avatar::partial_transfer::rigid_parts::rigid_deviation;
-    use likeness::personalize::{Method, personalize};
-    let session = likeness::session::file::read(likeness_tests::committed::path(2)).expect("reads");
-    let person = personalize(&session, Method::DEFAULT)
-        .expect("personalizes")
-        .shapes;
+    let (_, implanted) = implanted_subject(2);
     let built = default_avatar();
     let avatar = &built.avatar;
-    let rig = session.template.blendshapes().expect("a template");
-    let found = find_face(avatar, &session.topology, &rig).expect("a face");
-    let retargeting = retarget(avatar, &found, &person).expect("solves");
-    let implanted = implant(
-        avatar,
-        &found,
-        &retargeting,
-        &person,
-        session.topology.triangles(),
-    )
-    .expect("implants");
     for part in built.eyes.iter().chain(&built.teeth) {
         assert!(
             implanted.rigid_parts.contains(part),
@@ -359,24 +342,9 @@ fn eyes_and_teeth_stay_rigid() {
 /// eye about 10 mm open), not yet at the target.
 #[test]
 fn how_far_the_persons_blink_closes_the_avatars_eye() {
-    use likeness::personalize::{Method, personalize};
-    let session = likeness::session::file::read(likeness_tests::committed::path(1)).expect("reads");
-    let person = personalize(&session, Method::DEFAULT)
-        .expect("personalizes")
-        .shapes;
+    let (found, implanted) = implanted_subject(1);
     let built = default_avatar();
     let avatar = &built.avatar;
-    let rig = session.template.blendshapes().expect("a template");
-    let found = find_face(avatar, &session.topology, &rig).expect("a face");
-    let retargeting = retarget(avatar, &found, &person).expect("solves");
-    let implanted = implant(
-        avatar,
-        &found,
-        &retargeting,
-        &person,
-        session.topology.triangles(),
-    )
-    .expect("implants");
     let mask = face_mask();
     let tris = mask.topology.triangles();
     let skin = avatar.vertex_offsets()[built.skin];

@@ -110,4 +110,28 @@ impl Avatar {
         }
         out
     }
+
+    /// The summed displacement of every avatar vertex under the targets
+    /// `targets` (`(mesh, target)` pairs): one blendshape spread over
+    /// several meshes, or a shape split into halves.
+    pub fn summed_displacement(&self, targets: &[(usize, usize)]) -> Vec<Vec3> {
+        let mut out = vec![Vec3::ZERO; self.vertex_count()];
+        for &(mesh, t) in targets {
+            for (o, d) in out.iter_mut().zip(self.target_displacement(mesh, t)) {
+                *o += d;
+            }
+        }
+        out
+    }
+
+    /// The summed displacement of every target named exactly `name`, on
+    /// whichever meshes have one.
+    pub fn named_displacement(&self, name: &str) -> Vec<Vec3> {
+        let targets: Vec<(usize, usize)> = self
+            .target_ids()
+            .into_iter()
+            .filter(|&(m, t)| self.meshes[m].target_names[t] == name)
+            .collect();
+        self.summed_displacement(&targets)
+    }
 }

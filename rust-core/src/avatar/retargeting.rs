@@ -172,15 +172,7 @@ impl Retargeting {
     fn blendshape_displacements(&self, avatar: &Avatar) -> Vec<Vec<Vec3>> {
         self.targets
             .iter()
-            .map(|b| {
-                let mut d = vec![Vec3::ZERO; avatar.vertex_count()];
-                for &(m, t) in &b.targets {
-                    for (o, x) in d.iter_mut().zip(avatar.target_displacement(m, t)) {
-                        *o += x;
-                    }
-                }
-                d
-            })
+            .map(|b| avatar.summed_displacement(&b.targets))
             .collect()
     }
 
@@ -250,12 +242,7 @@ pub fn retarget(
     // not move the face get a zero column (and weight 0).
     let mut g = Mat::<f64>::zeros(rows, targets.len());
     for (i, blendshape) in targets.iter().enumerate() {
-        let mut d = vec![Vec3::ZERO; avatar.vertex_count()];
-        for &(m, t) in &blendshape.targets {
-            for (o, x) in d.iter_mut().zip(avatar.target_displacement(m, t)) {
-                *o += x;
-            }
-        }
+        let d = avatar.summed_displacement(&blendshape.targets);
         for (r, f) in face.iter().enumerate() {
             let v = d.get(f.vertex as usize).copied().unwrap_or(Vec3::ZERO);
             for axis in 0..3 {

@@ -106,13 +106,13 @@ pub fn arkit_displacement(avatar: &Avatar, shape: Blendshape) -> Option<Vec<DVec
     if ids.is_empty() {
         return None;
     }
-    let mut out = vec![DVec3::ZERO; avatar.vertex_count()];
-    for &(m, t) in ids {
-        for (o, d) in out.iter_mut().zip(avatar.target_displacement(m, t)) {
-            *o += d.as_dvec3();
-        }
-    }
-    Some(out)
+    Some(
+        avatar
+            .summed_displacement(ids)
+            .iter()
+            .map(|d| d.as_dvec3())
+            .collect(),
+    )
 }
 
 /// Finds the face of `avatar` for the ARKit mask `mask` with generic shapes

@@ -5,17 +5,17 @@
 
 use crate::CliResult;
 use crate::info::read_session;
+use likeness::Session;
 use likeness::avatar::glb::{
-    GlbAvatar, NewGlbOptions, NewShapes, check_avatar, new_avatar_glb, read_avatar,
-    read_avatar_bytes, write_avatar,
+    GlbAvatar, NewGlbOptions, new_avatar_glb, read_avatar, read_avatar_bytes,
 };
-use likeness::avatar::partial_transfer::implant;
+use likeness::avatar::personal_avatar::{
+    AvatarShapes, AvatarStep, PersonInput, mask_glb, personal_avatar, retarget_map_json,
+};
 use likeness::avatar::registration::cache;
-use likeness::avatar::registration::find_face::{FaceRegistration, cache_key, find_face};
-use likeness::avatar::retargeting::{Retargeting, retarget};
+use likeness::avatar::registration::find_face::cache_key;
 use likeness::io::atomic_write::write_atomically;
 use likeness::personalize::{Method, personalize};
-use likeness::{Blendshape, Session};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -68,6 +68,8 @@ struct Summary {
     implant_face_vertices: usize,
     implant_adjacent_vertices: usize,
     lids_repaired: usize,
+    /// Steps skipped or limited because the avatar lacked something.
+    warnings: Vec<String>,
     seconds: Timings,
     out_bytes: u64,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -113,15 +115,15 @@ pub fn demo_avatar(session: &Session, method: Method) -> CliResult {
     let personalized = personalize(session, method)?;
     let glb = default_glb()?;
     let rig = session.template.blendshapes()?;
-    let registration = find_face(&glb.avatar, &session.topology, &rig)?;
-    let retargeting = retarget(&glb.avatar, &registration, &personalized.shapes)?;
-    let implanted = implant(
-        &glb.avatar,
-        &registration,
-        &retargeting,
-        &personalized.shapes,
-        session.topology.triangles(),
-    )?;
+    let person = PersonInput {
+        mask: &session.topology,
+        rig: &rig,
+        personalized: &personalized.shapes,
+    };
+    let made = personal_avatar(&glb, &person, None, AvatarShapes::Personalized, &mut |_| {
+        true
+    })?;
+    let (registration, implanted) = (&made.registration, &made.implanted);
     println!(
         "Default avatar: {} vertices in {} meshes; face found on {} of them, registration residual mean {:.3} mm, max {:.3} mm ({:.2} s)",
         glb.avatar.vertex_count(),
@@ -132,74 +134,35 @@ pub fn demo_avatar(session: &Session, method: Method) -> CliResult {
         registration.seconds
     );
     let out = Path::new(DEMO_AVATAR);
-    write_avatar(&glb, &per_part_shapes(&glb.avatar, &implanted.shapes), out)?;
+    write_atomically(out, &made.glb).map_err(|e| format!("{}: {e}", out.display()))?;
     let absolute = std::fs::canonicalize(out).unwrap_or_else(|_| out.to_path_buf());
-    println!(
-        "The person's 52 shapes ({method}) implanted: {} face vertices, {} next to them; {:.2} s in all",
-        implanted.face_vertices,
-        implanted.adjacent_vertices,
-        started.elapsed().as_secs_f64()
-    );
+    if let Some(implanted) = implanted {
+        println!(
+            "The person's 52 shapes ({method}) implanted: {} face vertices, {} next to them; {:.2} s in all",
+            implanted.face_vertices,
+            implanted.adjacent_vertices,
+            started.elapsed().as_secs_f64()
+        );
+    }
     println!(
         "Wrote {} ({:.1} MB): open it in Blender (File → Import → glTF) and try its 52 shape keys.",
         absolute.display(),
-        std::fs::metadata(out).map_or(0, |m| m.len()) as f64 / 1e6
+        made.glb.len() as f64 / 1e6
     );
     Ok(())
-}
-
-/// `displacements[j]` (all avatar vertices) split per part for the writer.
-fn per_part_shapes(
-    avatar: &likeness::avatar::Avatar,
-    displacements: &[Vec<glam::Vec3>],
-) -> NewShapes {
-    let offsets = avatar.vertex_offsets();
-    let mut shapes = NewShapes::new();
-    for (shape, all) in Blendshape::ALL.into_iter().zip(displacements) {
-        let per_part = (0..avatar.parts.len())
-            .map(|i| all[offsets[i]..offsets[i + 1]].to_vec())
-            .collect();
-        shapes.set(shape, per_part);
-    }
-    shapes
 }
 
 /// `likeness avatar … --mask-only`: the person's personalized face mask
 /// alone (their neutral and 52 shapes, ARKit's face coordinates, metres)
 /// as a GLB.
 fn write_mask(session: &Session, shapes: &likeness::Blendshapes, out: &Path) -> CliResult {
-    use likeness::avatar::{Avatar, AvatarMesh, AvatarPart};
-    let neutral: Vec<glam::Vec3> = shapes.neutral().iter().map(|p| p.as_vec3()).collect();
-    let avatar = Avatar {
-        meshes: vec![AvatarMesh {
-            name: Some("mask".into()),
-            target_names: Blendshape::ALL
-                .iter()
-                .map(|b| b.name().to_string())
-                .collect(),
-        }],
-        parts: vec![AvatarPart {
-            name: "mask".into(),
-            mesh: 0,
-            primitive: 0,
-            positions: neutral,
-            triangles: session.topology.triangles().to_vec(),
-            targets: Blendshape::ALL
-                .iter()
-                .map(|b| shapes.delta(*b).iter().map(|d| d.as_vec3()).collect())
-                .collect(),
-        }],
-    };
-    let options = NewGlbOptions {
-        looks: vec![likeness::avatar::glb::MeshLook::SKIN],
-        ..NewGlbOptions::default()
-    };
-    likeness::avatar::glb::write_new_avatar(&avatar, &options, out)?;
+    let bytes = mask_glb(&session.topology, shapes, out)?;
+    write_atomically(out, &bytes).map_err(|e| format!("{}: {e}", out.display()))?;
     println!(
         "Wrote {} ({:.1} MB): the personalized face mask, {} vertices, 52 shapes",
         out.display(),
-        std::fs::metadata(out).map_or(0, |m| m.len()) as f64 / 1e6,
-        avatar.vertex_count()
+        bytes.len() as f64 / 1e6,
+        shapes.vertex_count()
     );
     Ok(())
 }
@@ -256,60 +219,66 @@ pub fn avatar_command(args: &AvatarArgs) -> CliResult {
         Some(path) => read_avatar(path)?,
         None => default_glb()?,
     };
-    let found = check_avatar(&glb)?;
-    let avatar = &glb.avatar;
     t.read_avatar = clock.elapsed().as_secs_f64();
     steps.inc(1);
 
     let clock = Instant::now();
     let rig = session.template.blendshapes()?;
     let dir = args.cache_dir.clone().unwrap_or_else(default_cache_dir);
-    let key = cache_key(avatar, &rig);
-    let (registration, cached): (FaceRegistration, bool) = match cache::load(&dir, &key) {
-        Some(r) => (r, true),
-        None => {
-            let r = find_face(avatar, &session.topology, &rig)
-                .map_err(|e| format!("{}: {e}", glb.file.display()))?;
-            if let Err(e) = cache::store(&dir, &key, &r) {
-                eprintln!(
-                    "note: the registration could not be cached in {}: {e}",
-                    dir.display()
-                );
-            }
-            (r, false)
-        }
+    let key = cache_key(&glb.avatar, &rig);
+    let cached = cache::load(&dir, &key);
+    let was_cached = cached.is_some();
+    let person = PersonInput {
+        mask: &session.topology,
+        rig: &rig,
+        personalized: &personalized.shapes,
     };
-    t.registration = clock.elapsed().as_secs_f64();
-    steps.inc(1);
-
-    let clock = Instant::now();
-    let retargeting = retarget(avatar, &registration, &personalized.shapes)?;
-    t.retargeting = clock.elapsed().as_secs_f64();
-
-    let clock = Instant::now();
-    let (displacements, implanted) = if args.retargeted {
-        (retargeting.displacements(avatar), None)
+    let shapes = if args.retargeted {
+        AvatarShapes::Retargeted
     } else {
-        let implanted = implant(
-            avatar,
-            &registration,
-            &retargeting,
-            &personalized.shapes,
-            session.topology.triangles(),
-        )?;
-        (implanted.shapes.clone(), Some(implanted))
+        AvatarShapes::Personalized
     };
-    t.implant = clock.elapsed().as_secs_f64();
+    // Time each step as it starts.
+    let mut marks: Vec<(AvatarStep, Instant)> = Vec::new();
+    let mut progress = |step: AvatarStep| {
+        marks.push((step, Instant::now()));
+        true
+    };
+    let made = personal_avatar(&glb, &person, cached, shapes, &mut progress)?;
+    let ended = Instant::now();
+    let step_seconds = |step: AvatarStep| {
+        marks.iter().position(|m| m.0 == step).map_or(0.0, |i| {
+            let next = marks.get(i + 1).map_or(ended, |m| m.1);
+            (next - marks[i].1).as_secs_f64()
+        })
+    };
+    t.registration = step_seconds(AvatarStep::FindingFace);
+    t.retargeting = step_seconds(AvatarStep::Retargeting);
+    t.implant = step_seconds(AvatarStep::Implanting);
+    if !was_cached && let Err(e) = cache::store(&dir, &key, &made.registration) {
+        eprintln!(
+            "note: the registration could not be cached in {}: {e}",
+            dir.display()
+        );
+    }
+    steps.inc(1);
+    let _ = clock;
 
     let clock = Instant::now();
-    let shapes = per_part_shapes(avatar, &displacements);
-    write_avatar(&glb, &shapes, &args.out)?;
+    write_atomically(&args.out, &made.glb).map_err(|e| format!("{}: {e}", args.out.display()))?;
     if let Some(map) = &args.retarget_map {
-        write_retarget_map(map, &glb, &retargeting)?;
+        let text = retarget_map_json(&glb, &made.retargeting);
+        write_atomically(map, text.as_bytes()).map_err(|e| format!("{}: {e}", map.display()))?;
     }
-    t.write = clock.elapsed().as_secs_f64();
+    t.write = clock.elapsed().as_secs_f64() + step_seconds(AvatarStep::Writing);
     steps.finish_and_clear();
+    for warning in &made.warnings {
+        eprintln!("warning: {}: {warning}", glb.file.display());
+    }
 
+    let (registration, retargeting, implanted) =
+        (&made.registration, &made.retargeting, &made.implanted);
+    let avatar = &glb.avatar;
     let (lo, hi) = retargeting.weight_range();
     let summary = Summary {
         avatar: args
@@ -325,12 +294,12 @@ pub fn avatar_command(args: &AvatarArgs) -> CliResult {
         method: args.method.to_string(),
         vertices: avatar.vertex_count(),
         morph_targets: retargeting.targets.len(),
-        arkit_found: found.found(),
-        arkit_missing: found.missing().iter().map(|b| b.name()).collect(),
+        arkit_found: made.found.found(),
+        arkit_missing: made.found.missing().iter().map(|b| b.name()).collect(),
         face_vertices: registration.map.face.len(),
         registration_residual_mean_mm: registration.residual_mean_mm,
         registration_residual_max_mm: registration.residual_max_mm,
-        registration_cached: cached,
+        registration_cached: was_cached,
         registration_seconds: registration.seconds,
         retarget_weight_min: lo,
         retarget_weight_max: hi,
@@ -343,8 +312,9 @@ pub fn avatar_command(args: &AvatarArgs) -> CliResult {
         implant_face_vertices: implanted.as_ref().map_or(0, |i| i.face_vertices),
         implant_adjacent_vertices: implanted.as_ref().map_or(0, |i| i.adjacent_vertices),
         lids_repaired: implanted.as_ref().map_or(0, |i| i.lids_repaired),
+        warnings: made.warnings.iter().map(|w| w.to_string()).collect(),
         seconds: t,
-        out_bytes: std::fs::metadata(&args.out).map_or(0, |m| m.len()),
+        out_bytes: made.glb.len() as u64,
         retarget_map: args.retarget_map.as_ref().map(|p| p.display().to_string()),
     };
     if args.json {
@@ -414,65 +384,4 @@ fn print_summary(s: &Summary) {
         t.implant,
         t.write
     );
-}
-
-/// The retarget map's file format (README "The retarget map").
-#[derive(Serialize)]
-struct RetargetMapFile<'a> {
-    format: &'static str,
-    version: u32,
-    avatar: String,
-    usage: &'static str,
-    relative_ridge: f64,
-    arkit: Vec<&'static str>,
-    targets: Vec<MapTarget<'a>>,
-    weights: &'a [Vec<f64>],
-}
-
-/// One of the avatar's blendshapes in the map: its name and the morph
-/// targets that carry it.
-#[derive(Serialize)]
-struct MapTarget<'a> {
-    name: &'a str,
-    morph_targets: Vec<MapMorphTarget<'a>>,
-}
-
-#[derive(Serialize)]
-struct MapMorphTarget<'a> {
-    mesh: usize,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    mesh_name: Option<&'a str>,
-    index: usize,
-}
-
-/// Writes the 52 × k weights as JSON (atomically).
-fn write_retarget_map(path: &Path, glb: &GlbAvatar, r: &Retargeting) -> CliResult {
-    let file = RetargetMapFile {
-        format: "likeness-retarget-map",
-        version: 1,
-        avatar: glb.file.display().to_string(),
-        usage: "weight of the avatar's blendshape targets[i] = sum over ARKit shapes j of weights[j][i] * ARKit weight j",
-        relative_ridge: r.relative_ridge,
-        arkit: Blendshape::ALL.iter().map(|b| b.name()).collect(),
-        targets: r
-            .targets
-            .iter()
-            .map(|t| MapTarget {
-                name: &t.name,
-                morph_targets: t
-                    .targets
-                    .iter()
-                    .map(|&(mesh, index)| MapMorphTarget {
-                        mesh,
-                        mesh_name: glb.avatar.meshes.get(mesh).and_then(|m| m.name.as_deref()),
-                        index,
-                    })
-                    .collect(),
-            })
-            .collect(),
-        weights: &r.weights,
-    };
-    let text = serde_json::to_string_pretty(&file)?;
-    write_atomically(path, text.as_bytes()).map_err(|e| format!("{}: {e}", path.display()))?;
-    Ok(())
 }

@@ -9,10 +9,12 @@
 //! | §3.3 "non-rigid registration \[1\]", "ICP with scaling \[52\]" | finding the face, the map `M` | [`registration`] |
 //! | §3.3, Eq. (4) | automatic retargeting `A_j`, the 52 × k weight map | [`retargeting`] |
 //! | §3.3, Fig. 3 | seamless partial deformation transfer: the person's shapes implanted | [`partial_transfer`] |
+//! | §3.3 end to end | the person's avatar as GLB bytes, steps skipped said, progress and cancel | [`personal_avatar`] |
 
 pub mod glb;
 pub mod model;
 pub mod partial_transfer;
+pub mod personal_avatar;
 pub mod registration;
 pub mod retargeting;
 pub mod target_names;

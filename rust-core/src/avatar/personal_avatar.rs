@@ -1,0 +1,448 @@
+//! §3.3 end to end: a person's personalized shapes and an avatar in, the
+//! person's avatar out as GLB bytes, with what each step found and every
+//! step it had to skip said plainly. The command line and the phone (the
+//! FFI) both call [`personal_avatar`]; neither repeats a decision.
+//!
+//! The steps, each in its own module: the face found ([`find_face`], or a
+//! registration cached from an earlier run), Eq. (4) ([`retarget`]), the
+//! seamless partial deformation transfer ([`implant`]), and the GLB
+//! written back ([`written_back_glb`]). Between steps the caller's
+//! [`Progress`] hears how far the work has got and may cancel it.
+
+use super::glb::{
+    GlbAvatar, GlbError, MeshLook, NewGlbOptions, NewShapes, TargetEncoding, check_avatar,
+    new_avatar_glb, written_back_glb,
+};
+use super::model::{Avatar, AvatarMesh, AvatarPart};
+use super::partial_transfer::{ImplantError, Implanted, implant};
+use super::registration::{FaceRegistration, RegistrationError, find_face};
+use super::retargeting::{NEGLIGIBLE, RetargetError, Retargeting, retarget};
+use super::target_names::ArkitTargets;
+use crate::arkit::{Blendshape, Blendshapes};
+use crate::geometry::Topology;
+use glam::Vec3;
+use serde::Serialize;
+use std::fmt;
+use std::path::Path;
+
+/// A step of [`personal_avatar`], as reported to [`Progress`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AvatarStep {
+    /// Checking the avatar's morph targets.
+    Checking,
+    /// Finding the face (skipped when a registration is given).
+    FindingFace,
+    /// Eq. (4).
+    Retargeting,
+    /// Steps 1 and 2, rigid parts, eyelid repair.
+    Implanting,
+    /// Writing the GLB.
+    Writing,
+}
+
+impl AvatarStep {
+    /// The step in words.
+    pub const fn name(self) -> &'static str {
+        match self {
+            AvatarStep::Checking => "checking the avatar",
+            AvatarStep::FindingFace => "finding the face",
+            AvatarStep::Retargeting => "retargeting (Eq. 4)",
+            AvatarStep::Implanting => "implanting the person's shapes",
+            AvatarStep::Writing => "writing the GLB",
+        }
+    }
+
+    /// The share of the whole work done when this step starts (measured
+    /// on the default avatar: registration dominates).
+    pub const fn done_before(self) -> f64 {
+        match self {
+            AvatarStep::Checking => 0.0,
+            AvatarStep::FindingFace => 0.05,
+            AvatarStep::Retargeting => 0.55,
+            AvatarStep::Implanting => 0.6,
+            AvatarStep::Writing => 0.9,
+        }
+    }
+}
+
+/// Hears which step starts and says whether to go on (`false` cancels).
+pub trait Progress {
+    /// `step` is about to start; return `false` to stop there.
+    fn step(&mut self, step: AvatarStep) -> bool;
+}
+
+impl<F: FnMut(AvatarStep) -> bool> Progress for F {
+    fn step(&mut self, step: AvatarStep) -> bool {
+        self(step)
+    }
+}
+
+/// Which shapes the written avatar carries.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum AvatarShapes {
+    /// The person's shapes implanted (§3.3, the product).
+    #[default]
+    Personalized,
+    /// The automatic retargeting `A_j` of Eq. (4): the avatar's own shapes
+    /// combined (for comparison).
+    Retargeted,
+}
+
+/// Something the avatar lacked, so a step was skipped or limited; the
+/// avatar is still written.
+#[derive(Clone, Debug, PartialEq)]
+pub enum AvatarWarning {
+    /// ARKit shapes the avatar has no target for: Eq. (4) has less to
+    /// combine (they are written anyway, from the person's mask).
+    MissingShapes(Vec<Blendshape>),
+    /// Targets with ARKit names that move nothing.
+    StillTargets(Vec<String>),
+    /// No part moves like an eyeball under eyeLook: eyes are not moved and
+    /// eyelid repair is skipped.
+    NoEyeballs,
+    /// No separate rigid part (teeth, tongue) follows the jaw: nothing is
+    /// held rigid.
+    NoTeeth,
+}
+
+impl fmt::Display for AvatarWarning {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            AvatarWarning::MissingShapes(shapes) => write!(
+                f,
+                "the avatar has no target for {} ARKit shape(s) ({}): retargeting combines the others",
+                shapes.len(),
+                shapes.iter().map(|b| b.name()).collect::<Vec<_>>().join(", ")
+            ),
+            AvatarWarning::StillTargets(names) => write!(
+                f,
+                "{} target(s) move nothing ({})",
+                names.len(),
+                names.join(", ")
+            ),
+            AvatarWarning::NoEyeballs => f.write_str(
+                "no eyeballs found (no part that eyeLook moves): eyes not moved, eyelid repair skipped",
+            ),
+            AvatarWarning::NoTeeth => f.write_str(
+                "no teeth or tongue found (no separate part that moves rigidly): nothing held rigid",
+            ),
+        }
+    }
+}
+
+/// Why no avatar was made.
+#[derive(Debug, thiserror::Error)]
+pub enum AvatarError {
+    /// The GLB could not be read, checked or written.
+    #[error(transparent)]
+    Glb(#[from] GlbError),
+    /// Every morph target of the avatar is still.
+    #[error("{file}: none of the avatar's {targets} morph targets moves a vertex")]
+    StillAvatar {
+        /// The avatar's file.
+        file: String,
+        /// Its morph targets.
+        targets: usize,
+    },
+    /// No face was found.
+    #[error("{file}: {source}")]
+    Registration {
+        /// The avatar's file.
+        file: String,
+        /// Why.
+        #[source]
+        source: RegistrationError,
+    },
+    /// Eq. (4) failed.
+    #[error("{file}: {source}")]
+    Retargeting {
+        /// The avatar's file.
+        file: String,
+        /// Why.
+        #[source]
+        source: RetargetError,
+    },
+    /// The transfer failed.
+    #[error("{file}: {source}")]
+    Implant {
+        /// The avatar's file.
+        file: String,
+        /// Why.
+        #[source]
+        source: ImplantError,
+    },
+    /// The caller's [`Progress`] asked to stop before `step`.
+    #[error("cancelled before {}", .0.name())]
+    Cancelled(AvatarStep),
+}
+
+/// What [`personal_avatar`] needs besides the avatar.
+pub struct PersonInput<'a> {
+    /// The mask's topology (the session's).
+    pub mask: &'a Topology,
+    /// The generic template shapes on the mask (the session's template),
+    /// which the face search starts from.
+    pub rig: &'a Blendshapes,
+    /// The person's personalized shapes on the mask.
+    pub personalized: &'a Blendshapes,
+}
+
+/// The person's avatar, and what each step found.
+#[derive(Debug)]
+pub struct PersonalAvatar {
+    /// The GLB: the avatar unchanged except its 52 ARKit targets.
+    pub glb: Vec<u8>,
+    /// Which targets carry ARKit's shapes in the avatar as read.
+    pub found: ArkitTargets,
+    /// The face found (or the one given).
+    pub registration: FaceRegistration,
+    /// Eq. (4).
+    pub retargeting: Retargeting,
+    /// What the transfer did (`None` for [`AvatarShapes::Retargeted`]).
+    pub implanted: Option<Implanted>,
+    /// What the avatar lacked.
+    pub warnings: Vec<AvatarWarning>,
+}
+
+/// Makes the person's avatar from `glb` (module docs): `registration` is a
+/// face found earlier on this avatar for this mask (see
+/// [`super::registration::cache`]), or `None` to find it now.
+pub fn personal_avatar(
+    glb: &GlbAvatar,
+    person: &PersonInput<'_>,
+    registration: Option<FaceRegistration>,
+    shapes: AvatarShapes,
+    progress: &mut dyn Progress,
+) -> Result<PersonalAvatar, AvatarError> {
+    let file = glb.file.display().to_string();
+    let mut go = |step: AvatarStep| {
+        if progress.step(step) {
+            Ok(())
+        } else {
+            Err(AvatarError::Cancelled(step))
+        }
+    };
+    go(AvatarStep::Checking)?;
+    let avatar = &glb.avatar;
+    let found = check_avatar(glb)?;
+    let mut warnings = still_targets(avatar, &file)?;
+    let missing = found.missing();
+    if !missing.is_empty() {
+        warnings.insert(0, AvatarWarning::MissingShapes(missing));
+    }
+
+    let registration = match registration {
+        Some(r) => r,
+        None => {
+            go(AvatarStep::FindingFace)?;
+            find_face(avatar, person.mask, person.rig).map_err(|source| {
+                AvatarError::Registration {
+                    file: file.clone(),
+                    source,
+                }
+            })?
+        }
+    };
+    if registration.eyeball_parts.is_empty() {
+        warnings.push(AvatarWarning::NoEyeballs);
+    }
+
+    go(AvatarStep::Retargeting)?;
+    let retargeting = retarget(avatar, &registration, person.personalized).map_err(|source| {
+        AvatarError::Retargeting {
+            file: file.clone(),
+            source,
+        }
+    })?;
+
+    go(AvatarStep::Implanting)?;
+    let (displacements, implanted) = match shapes {
+        AvatarShapes::Retargeted => (retargeting.displacements(avatar), None),
+        AvatarShapes::Personalized => {
+            let implanted = implant(
+                avatar,
+                &registration,
+                &retargeting,
+                person.personalized,
+                person.mask.triangles(),
+            )
+            .map_err(|source| AvatarError::Implant {
+                file: file.clone(),
+                source,
+            })?;
+            let non_eye_rigid = implanted
+                .rigid_parts
+                .iter()
+                .any(|p| !registration.eyeball_parts.contains(p));
+            if !non_eye_rigid {
+                warnings.push(AvatarWarning::NoTeeth);
+            }
+            (implanted.shapes.clone(), Some(implanted))
+        }
+    };
+
+    go(AvatarStep::Writing)?;
+    let bytes = written_back_glb(
+        glb,
+        &per_part_shapes(avatar, &displacements),
+        TargetEncoding::Smallest,
+        &glb.file,
+    )?;
+    Ok(PersonalAvatar {
+        glb: bytes,
+        found,
+        registration,
+        retargeting,
+        implanted,
+        warnings,
+    })
+}
+
+/// The ARKit-named targets that move no vertex by more than
+/// [`NEGLIGIBLE`] of the avatar's size, as a warning; an error if every
+/// target of the avatar is still.
+fn still_targets(avatar: &Avatar, file: &str) -> Result<Vec<AvatarWarning>, AvatarError> {
+    let positions = avatar.positions();
+    let size = positions
+        .iter()
+        .fold(None::<(Vec3, Vec3)>, |b, p| {
+            Some(b.map_or((*p, *p), |(lo, hi)| (lo.min(*p), hi.max(*p))))
+        })
+        .map_or(0.0, |(lo, hi)| (hi - lo).length());
+    let threshold = (NEGLIGIBLE * f64::from(size)) as f32;
+    let ids = avatar.target_ids();
+    let still: Vec<(usize, usize)> = ids
+        .iter()
+        .copied()
+        .filter(|&(m, t)| {
+            avatar
+                .target_displacement(m, t)
+                .iter()
+                .all(|d| d.length() <= threshold)
+        })
+        .collect();
+    if !ids.is_empty() && still.len() == ids.len() {
+        return Err(AvatarError::StillAvatar {
+            file: file.to_string(),
+            targets: ids.len(),
+        });
+    }
+    let names: Vec<String> = still
+        .iter()
+        .filter_map(|&(m, t)| avatar.meshes.get(m)?.target_names.get(t).cloned())
+        .filter(|name| {
+            super::target_names::parse_target_name(name) != super::target_names::TargetName::Other
+        })
+        .collect();
+    Ok(if names.is_empty() {
+        Vec::new()
+    } else {
+        vec![AvatarWarning::StillTargets(names)]
+    })
+}
+
+/// `displacements[j]` (every avatar vertex, ARKit shape `j`) split per
+/// part, as the GLB writer takes them.
+pub fn per_part_shapes(avatar: &Avatar, displacements: &[Vec<Vec3>]) -> NewShapes {
+    let offsets = avatar.vertex_offsets();
+    let mut shapes = NewShapes::new();
+    for (shape, all) in Blendshape::ALL.into_iter().zip(displacements) {
+        let per_part = (0..avatar.parts.len())
+            .filter_map(|i| Some(all.get(offsets[i]..offsets[i + 1])?.to_vec()))
+            .collect();
+        shapes.set(shape, per_part);
+    }
+    shapes
+}
+
+/// The person's personalized face mask alone (their neutral and 52
+/// shapes, ARKit's face coordinates, metres) as a GLB with 52 targets in
+/// ARKit's names; `name` names it in messages.
+pub fn mask_glb(mask: &Topology, shapes: &Blendshapes, name: &Path) -> Result<Vec<u8>, GlbError> {
+    let avatar = Avatar {
+        meshes: vec![AvatarMesh {
+            name: Some("mask".into()),
+            target_names: Blendshape::ALL
+                .iter()
+                .map(|b| b.name().to_string())
+                .collect(),
+        }],
+        parts: vec![AvatarPart {
+            name: "mask".into(),
+            mesh: 0,
+            primitive: 0,
+            positions: shapes.neutral().iter().map(|p| p.as_vec3()).collect(),
+            triangles: mask.triangles().to_vec(),
+            targets: Blendshape::ALL
+                .iter()
+                .map(|b| shapes.delta(*b).iter().map(|d| d.as_vec3()).collect())
+                .collect(),
+        }],
+    };
+    let options = NewGlbOptions {
+        looks: vec![MeshLook::SKIN],
+        ..NewGlbOptions::default()
+    };
+    new_avatar_glb(&avatar, &options, name)
+}
+
+/// The retarget map's file format (README "The retarget map").
+#[derive(Serialize)]
+struct RetargetMapFile<'a> {
+    format: &'static str,
+    version: u32,
+    avatar: String,
+    usage: &'static str,
+    relative_ridge: f64,
+    arkit: Vec<&'static str>,
+    targets: Vec<MapTarget<'a>>,
+    weights: &'a [Vec<f64>],
+}
+
+/// One of the avatar's blendshapes in the map: its name and the morph
+/// targets that carry it.
+#[derive(Serialize)]
+struct MapTarget<'a> {
+    name: &'a str,
+    morph_targets: Vec<MapMorphTarget<'a>>,
+}
+
+#[derive(Serialize)]
+struct MapMorphTarget<'a> {
+    mesh: usize,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    mesh_name: Option<&'a str>,
+    index: usize,
+}
+
+/// The 52 × k weights of Eq. (4) as the JSON of the README's "The
+/// retarget map", for engines that drive the avatar's own shapes.
+pub fn retarget_map_json(glb: &GlbAvatar, r: &Retargeting) -> String {
+    let file = RetargetMapFile {
+        format: "likeness-retarget-map",
+        version: 1,
+        avatar: glb.file.display().to_string(),
+        usage: "weight of the avatar's blendshape targets[i] = sum over ARKit shapes j of weights[j][i] * ARKit weight j",
+        relative_ridge: r.relative_ridge,
+        arkit: Blendshape::ALL.iter().map(|b| b.name()).collect(),
+        targets: r
+            .targets
+            .iter()
+            .map(|t| MapTarget {
+                name: &t.name,
+                morph_targets: t
+                    .targets
+                    .iter()
+                    .map(|&(mesh, index)| MapMorphTarget {
+                        mesh,
+                        mesh_name: glb.avatar.meshes.get(mesh).and_then(|m| m.name.as_deref()),
+                        index,
+                    })
+                    .collect(),
+            })
+            .collect(),
+        weights: &r.weights,
+    };
+    // Serializing strings, numbers and arrays cannot fail.
+    serde_json::to_string_pretty(&file).unwrap_or_default()
+}

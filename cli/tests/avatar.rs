@@ -164,3 +164,24 @@ fn the_demo_ends_with_the_persons_avatar_in_the_current_folder() {
     assert_eq!(check_avatar(&written).expect("an avatar").found(), 52);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn a_session_that_cannot_be_personalized_writes_nothing() {
+    let dir = scratch("no-captures");
+    let mut parts = likeness_tests::committed::read(1)
+        .expect("reads")
+        .into_parts();
+    parts.captures.clear();
+    parts.truth = None;
+    let session = likeness::Session::new(parts).expect("a session without captures is valid");
+    let path = dir.join("empty.likeness");
+    likeness::session::file::write(&path, &session).expect("writes");
+    let glb = dir.join("out.glb");
+    let out = likeness(&["avatar", &s(&path), "--out", &s(&glb)]);
+    assert!(!out.status.success());
+    let err = text(&out.stderr);
+    assert!(err.contains("capture"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(!glb.exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -270,11 +270,7 @@ pub fn personal_avatar(
                 file: file.clone(),
                 source,
             })?;
-            let non_eye_rigid = implanted
-                .rigid_parts
-                .iter()
-                .any(|p| !registration.eyeball_parts.contains(p));
-            if !non_eye_rigid {
+            if !has_teeth(avatar, &implanted, &registration) {
                 warnings.push(AvatarWarning::NoTeeth);
             }
             (implanted.shapes.clone(), Some(implanted))
@@ -296,6 +292,21 @@ pub fn personal_avatar(
         implanted,
         warnings,
     })
+}
+
+/// Whether some part other than the eyeballs is rigid and moves with the
+/// jaw (jawOpen moves it): teeth, gums or a tongue.
+fn has_teeth(avatar: &Avatar, implanted: &Implanted, registration: &FaceRegistration) -> bool {
+    let offsets = avatar.vertex_offsets();
+    let jaw = avatar.named_displacement(Blendshape::JawOpen.name());
+    implanted
+        .rigid_parts
+        .iter()
+        .filter(|p| !registration.eyeball_parts.contains(p))
+        .any(|&p| {
+            jaw.get(offsets[p]..offsets[p + 1])
+                .is_some_and(|d| d.iter().any(|x| *x != Vec3::ZERO))
+        })
 }
 
 /// The ARKit-named targets that move no vertex by more than

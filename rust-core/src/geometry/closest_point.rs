@@ -243,6 +243,19 @@ impl TriangleGrid {
     }
 }
 
+/// The point of segment `a`–`b` closest to `p`, and its parameter `t ∈
+/// [0, 1]` (`a + t (b − a)`); `a` for a segment of zero length.
+pub fn closest_on_segment(p: DVec3, a: DVec3, b: DVec3) -> (DVec3, f64) {
+    let ab = b - a;
+    let length2 = ab.length_squared();
+    let t = if length2 > 0.0 {
+        ((p - a).dot(ab) / length2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (a + ab * t, t)
+}
+
 /// The point of triangle `abc` closest to `p` and its barycentric
 /// coordinates (Ericson 2005, §5.1.5).
 pub fn closest_point_on_triangle(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> (DVec3, [f64; 3]) {

@@ -22,6 +22,7 @@
 //! has them; a vertex of `N` that a particular `A_j` does not move may take
 //! a small part of `C`.
 
+use super::lid_contacts::{LidContact, least_energy_closing};
 use faer::linalg::solvers::Solve;
 use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
 use faer::sparse::{SparseColMat, Triplet};
@@ -40,6 +41,8 @@ struct Row {
 pub struct AdjacentStep {
     /// Avatar vertices of `N`, increasing.
     region: Vec<u32>,
+    /// Avatar vertex → its index in `region`.
+    local: HashMap<u32, usize>,
     rows: Vec<Row>,
     llt: Option<Llt<usize, f64>>,
 }
@@ -116,7 +119,12 @@ impl AdjacentStep {
                 let symbolic = SymbolicLlt::try_new(matrix.symbolic(), Side::Lower).ok()?;
                 Llt::try_new_with_symbolic(symbolic, matrix.as_ref(), Side::Lower).ok()
             });
-        AdjacentStep { region, rows, llt }
+        AdjacentStep {
+            region,
+            local,
+            rows,
+            llt,
+        }
     }
 
     /// The avatar vertices of `N`.
@@ -159,6 +167,35 @@ impl AdjacentStep {
                 if let (Some(d), Some(a)) = (full[j].get_mut(v), retargeted[j].get(v)) {
                     *d = *a + DVec3::new(rhs[(i, 3 * j)], rhs[(i, 3 * j + 1)], rhs[(i, 3 * j + 2)]);
                 }
+            }
+        }
+        true
+    }
+
+    /// Closes the lid `contacts` in one completed shape `d` (displacements
+    /// of every avatar vertex, `rest` the avatar at rest): the change of the
+    /// correction `C` on `N` of least bending `ΔCᵀ K ΔC`, `K = L_RNᵀ L_RN`
+    /// the matrix above, that meets them
+    /// ([`super::lid_contacts::least_energy_closing`]; a contact moves
+    /// whichever of its vertices are in `N`). Returns whether the
+    /// system could be solved (nothing is changed otherwise).
+    pub fn close(&self, rest: &[DVec3], d: &mut [DVec3], contacts: &[LidContact]) -> bool {
+        let Some(llt) = &self.llt else {
+            return true;
+        };
+        let change = least_energy_closing(
+            llt,
+            self.region.len(),
+            |v| self.local.get(&v).copied(),
+            |v| Some(*rest.get(v as usize)? + *d.get(v as usize)?),
+            contacts,
+        );
+        let Some(change) = change else {
+            return false;
+        };
+        for (i, delta) in change {
+            if let Some(x) = self.region.get(i).and_then(|&v| d.get_mut(v as usize)) {
+                *x += delta;
             }
         }
         true

@@ -37,6 +37,7 @@
 //! the avatar keeps its face's proportions and detail while moving as the
 //! person's mask does.
 
+use super::lid_contacts::{LidContact, least_energy_closing};
 use crate::avatar::registration::CorrespondenceMap;
 use crate::geometry::deformation_gradient::{RestTriangle, hat_gradients, triangle_area};
 use faer::linalg::solvers::Solve;
@@ -86,6 +87,8 @@ pub struct FaceStep {
     /// `κ L_vv` per patch vertex.
     anchor: Vec<f64>,
     llt: Llt<usize, f64>,
+    /// Avatar vertex → patch vertex.
+    local: HashMap<u32, u32>,
 }
 
 impl FaceStep {
@@ -178,6 +181,7 @@ impl FaceStep {
             rests,
             anchor,
             llt,
+            local,
         })
     }
 
@@ -273,5 +277,44 @@ impl FaceStep {
                     .collect()
             })
             .collect())
+    }
+
+    /// The patch vertex of avatar vertex `v`, if it is one.
+    pub fn index(&self, v: u32) -> Option<usize> {
+        self.local.get(&v).map(|&i| i as usize)
+    }
+
+    /// Closes the lid `contacts` in one shape's patch displacement `d` (as
+    /// [`FaceStep::transfer`] gives it; `rest` the avatar at rest, `beyond`
+    /// the shape's displacement of every avatar vertex, taken where the
+    /// patch does not reach): the change of least energy under this step's
+    /// matrix that meets them
+    /// ([`super::lid_contacts::least_energy_closing`]). Returns whether the
+    /// system could be solved (nothing is changed otherwise).
+    pub fn close(
+        &self,
+        rest: &[DVec3],
+        beyond: &[DVec3],
+        d: &mut [DVec3],
+        contacts: &[LidContact],
+    ) -> bool {
+        let index = |v: u32| self.index(v);
+        let at = |v: u32| {
+            let moved = match index(v) {
+                Some(i) => d.get(i)?,
+                None => beyond.get(v as usize)?,
+            };
+            Some(*rest.get(v as usize)? + *moved)
+        };
+        let change = least_energy_closing(&self.llt, self.vertices.len(), index, at, contacts);
+        let Some(change) = change else {
+            return false;
+        };
+        for (i, delta) in change {
+            if let Some(x) = d.get_mut(i) {
+                *x += delta;
+            }
+        }
+        true
     }
 }

@@ -11,12 +11,14 @@
 //! |---|---|---|
 //! | §3.3 "deformation transfer to only the avatar's face using the precomputed correspondence mapping" | step 1 | [`face_step`] |
 //! | §3.3 "the vertices in the adjacent area … are non-rigidly deformed from `A_j`" | step 2 | [`adjacent_step`] |
+//! | (beyond the paper) closed eyes stay closed: the lid margins `M` leaves out made to meet | [`lid_contacts`], [`adjacent_step::AdjacentStep::close`] |
 //! | §3.3 "eye balls and teeth … to their desired position" | rigid parts kept rigid | [`rigid_parts`] |
 //! | §3.3 "moving the eyelid vertices to their closest point on the eyeball surface \[2\]" | no lid inside an eyeball | [`eyelid_repair`] |
 
 pub mod adjacent_step;
 pub mod eyelid_repair;
 pub mod face_step;
+pub mod lid_contacts;
 pub mod rigid_parts;
 
 use super::model::Avatar;
@@ -27,6 +29,7 @@ use adjacent_step::AdjacentStep;
 use eyelid_repair::{Eyeball, LID_OFFSET_MM, NEAR_MM, repair_eyelids};
 use face_step::{FaceStep, FaceStepError};
 use glam::{DVec3, Vec3};
+use lid_contacts::ClosingEyes;
 use rigid_parts::{RIGID_TOLERANCE, make_rigid};
 
 /// Why the shapes could not be implanted.
@@ -55,6 +58,9 @@ pub struct Implanted {
     pub adjacent_vertices: usize,
     /// Lid vertices moved out of an eyeball, over all 52 shapes.
     pub lids_repaired: usize,
+    /// Eyes closed on the avatar because the person's closed (shape, eye
+    /// pairs; [`lid_contacts`]).
+    pub lids_closed: usize,
     /// The parts found rigid (every avatar target moves them rigidly).
     pub rigid_parts: Vec<usize>,
     /// For each rigid part, the largest deviation from a rigid motion
@@ -101,6 +107,31 @@ pub fn implant(
         registration.similarity.rotation,
         &mapped,
     )?;
+    // Eyes the person closes, closed on the face patch.
+    let closing = ClosingEyes::new(
+        &positions,
+        &face_part_triangles,
+        registration,
+        personalized,
+        mask_triangles,
+    );
+    let mut on_face = on_face;
+    // Beyond the patch, `A_j` stands in for what step 2 will make.
+    let patch_at = |j: usize, d: &Vec<DVec3>, v: u32| {
+        let moved = match face.index(v) {
+            Some(i) => d.get(i)?,
+            None => retargeted.get(j)?.get(v as usize)?,
+        };
+        Some(positions[v as usize] + *moved)
+    };
+    let patch_close = |j: usize, d: &mut Vec<DVec3>, c: &[lid_contacts::LidContact]| {
+        retargeted
+            .get(j)
+            .is_some_and(|beyond| face.close(&positions, beyond, d, c))
+    };
+    if !closing.close_all(&mut on_face, patch_at, patch_close) {
+        return Err(ImplantError::Adjacent);
+    }
     let mut full = retargeted.clone();
     for (j, shape) in on_face.iter().enumerate() {
         for (&v, d) in face.vertices().iter().zip(shape) {
@@ -131,6 +162,15 @@ pub fn implant(
         .collect();
     let adjacent = AdjacentStep::new(&face_part_triangles, &is_face, &moving);
     if !adjacent.complete(&mut full, &retargeted) {
+        return Err(ImplantError::Adjacent);
+    }
+    // And on the region next to it, for lid vertices there.
+    let full_at =
+        |_: usize, d: &Vec<DVec3>, v: u32| Some(positions[v as usize] + *d.get(v as usize)?);
+    let full_close = |_: usize, d: &mut Vec<DVec3>, c: &[lid_contacts::LidContact]| {
+        adjacent.close(&positions, d, c)
+    };
+    if !closing.close_all(&mut full, full_at, full_close) {
         return Err(ImplantError::Adjacent);
     }
     // Rigid parts: found from the avatar's own targets, then held rigid.
@@ -219,6 +259,7 @@ pub fn implant(
         face_vertices: face.vertices().len(),
         adjacent_vertices: adjacent.region().len(),
         lids_repaired,
+        lids_closed: closing.count(),
         rigid_parts,
         rigid_deviation_removed,
     })

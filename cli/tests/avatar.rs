@@ -56,6 +56,13 @@ fn a_session_onto_a_user_avatar_gives_a_glb_a_map_and_a_summary() {
     assert!(first.status.success(), "{}", text(&first.stderr));
     let v: serde_json::Value = serde_json::from_slice(&first.stdout).expect("JSON");
     assert_eq!(v["arkit_found"], 52);
+    // The default avatar lacks nothing: no step skipped, nothing to warn.
+    assert_eq!(v["warnings"], serde_json::json!([]), "{v}");
+    assert!(
+        !text(&first.stderr).contains("warning"),
+        "{}",
+        text(&first.stderr)
+    );
     assert_eq!(v["registration_cached"], false);
     assert!(v["face_vertices"].as_u64().unwrap() > 5000, "{v}");
     assert!(

@@ -225,7 +225,7 @@ pub fn personal_avatar(
     go(AvatarStep::Checking)?;
     let avatar = &glb.avatar;
     let found = check_avatar(glb)?;
-    let mut warnings = still_targets(avatar, &file)?;
+    let mut warnings = still_targets(avatar, &found, &file)?;
     let missing = found.missing();
     if !missing.is_empty() {
         warnings.insert(0, AvatarWarning::MissingShapes(missing));
@@ -309,10 +309,16 @@ fn has_teeth(avatar: &Avatar, implanted: &Implanted, registration: &FaceRegistra
         })
 }
 
-/// The ARKit-named targets that move no vertex by more than
-/// [`NEGLIGIBLE`] of the avatar's size, as a warning; an error if every
-/// target of the avatar is still.
-fn still_targets(avatar: &Avatar, file: &str) -> Result<Vec<AvatarWarning>, AvatarError> {
+/// The ARKit shapes whose targets (on every mesh that has one, halves
+/// summed) move no vertex by more than [`NEGLIGIBLE`] of the avatar's
+/// size, as a warning; an error if every morph target of the avatar is
+/// still. (A target that is zero on one mesh is normal: avatars give every
+/// mesh all 52 names, and the mouth's do not move the eyes.)
+fn still_targets(
+    avatar: &Avatar,
+    found: &ArkitTargets,
+    file: &str,
+) -> Result<Vec<AvatarWarning>, AvatarError> {
     let positions = avatar.positions();
     let size = positions
         .iter()
@@ -321,29 +327,25 @@ fn still_targets(avatar: &Avatar, file: &str) -> Result<Vec<AvatarWarning>, Avat
         })
         .map_or(0.0, |(lo, hi)| (hi - lo).length());
     let threshold = (NEGLIGIBLE * f64::from(size)) as f32;
+    let still = |d: &[Vec3]| d.iter().all(|x| x.length() <= threshold);
     let ids = avatar.target_ids();
-    let still: Vec<(usize, usize)> = ids
-        .iter()
-        .copied()
-        .filter(|&(m, t)| {
-            avatar
-                .target_displacement(m, t)
-                .iter()
-                .all(|d| d.length() <= threshold)
-        })
-        .collect();
-    if !ids.is_empty() && still.len() == ids.len() {
+    if !ids.is_empty()
+        && ids
+            .iter()
+            .all(|&(m, t)| still(&avatar.target_displacement(m, t)))
+    {
         return Err(AvatarError::StillAvatar {
             file: file.to_string(),
             targets: ids.len(),
         });
     }
-    let names: Vec<String> = still
+    let names: Vec<String> = Blendshape::ALL
         .iter()
-        .filter_map(|&(m, t)| avatar.meshes.get(m)?.target_names.get(t).cloned())
-        .filter(|name| {
-            super::target_names::parse_target_name(name) != super::target_names::TargetName::Other
+        .filter(|b| {
+            let ids = found.of(**b);
+            !ids.is_empty() && still(&avatar.summed_displacement(ids))
         })
+        .map(|b| b.name().to_string())
         .collect();
     Ok(if names.is_empty() {
         Vec::new()

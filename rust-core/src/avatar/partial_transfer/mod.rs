@@ -32,6 +32,13 @@ use glam::{DVec3, Vec3};
 use lid_contacts::ClosingEyes;
 use rigid_parts::{RIGID_TOLERANCE, make_rigid};
 
+/// Skin within this distance of the face region (mm at the mask's scale,
+/// along the surface) joins the adjacent region even where no `A_j` moves
+/// it, so that the person's motion at the mask's rim (a brow raise moves
+/// the top of the forehead) fades out over it instead of stopping at one
+/// edge.
+pub const BLEND_MARGIN_MM: f64 = 30.0;
+
 /// Why the shapes could not be implanted.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum ImplantError {
@@ -157,8 +164,14 @@ pub fn implant(
                 .for_each(|x| *x = true);
         }
     }
+    let margin = adjacent_step::within(
+        &positions,
+        &face_part_triangles,
+        &is_face,
+        BLEND_MARGIN_MM * registration.similarity.scale / 1000.0,
+    );
     let moving: Vec<bool> = (0..n)
-        .map(|v| in_face_parts[v] && retargeted.iter().any(|a| a[v] != DVec3::ZERO))
+        .map(|v| in_face_parts[v] && (margin[v] || retargeted.iter().any(|a| a[v] != DVec3::ZERO)))
         .collect();
     let adjacent = AdjacentStep::new(&face_part_triangles, &is_face, &moving);
     if !adjacent.complete(&mut full, &retargeted) {

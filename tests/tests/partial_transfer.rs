@@ -617,3 +617,69 @@ fn a_closed_eye_shows_no_eyeball_from_the_front() {
         );
     }
 }
+
+/// Vertices outside both regions (not in the face, moved by no `A_j`, and
+/// farther than the blending margin from the face) stay exactly where the
+/// avatar has them, in every shape (committed subject 1).
+#[test]
+fn vertices_outside_both_regions_stay_exactly_where_they_were() {
+    use likeness::avatar::partial_transfer::{BLEND_MARGIN_MM, adjacent_step::within};
+    let (found, implanted) = implanted_subject(1);
+    let built = default_avatar();
+    let avatar = &built.avatar;
+    let session = likeness::session::file::read(likeness_tests::committed::path(1)).expect("reads");
+    let person =
+        likeness::personalize::personalize(&session, likeness::personalize::Method::DEFAULT)
+            .expect("personalizes")
+            .shapes;
+    let retargeted = retarget(avatar, &found, &person)
+        .expect("solves")
+        .displacements(avatar);
+    let positions: Vec<glam::DVec3> = avatar.positions().iter().map(|p| p.as_dvec3()).collect();
+    let offsets = avatar.vertex_offsets();
+    let triangles: Vec<[u32; 3]> = found
+        .face_parts
+        .iter()
+        .flat_map(|&i| {
+            let o = offsets[i] as u32;
+            avatar.parts[i]
+                .triangles
+                .iter()
+                .map(move |t| t.map(|v| v + o))
+        })
+        .collect();
+    let mut face = vec![false; positions.len()];
+    for f in &found.map.face {
+        face[f.vertex as usize] = true;
+    }
+    let near = within(
+        &positions,
+        &triangles,
+        &face,
+        BLEND_MARGIN_MM * found.similarity.scale / 1000.0,
+    );
+    let outside: Vec<usize> = (0..positions.len())
+        .filter(|&v| {
+            found
+                .face_parts
+                .iter()
+                .any(|&i| (offsets[i]..offsets[i + 1]).contains(&v))
+                && !near[v]
+                && retargeted.iter().all(|a| a[v] == Vec3::ZERO)
+        })
+        .collect();
+    assert!(
+        outside.len() > 1000,
+        "{} vertices outside both regions",
+        outside.len()
+    );
+    for (j, shape) in implanted.shapes.iter().enumerate() {
+        let moved = outside.iter().filter(|&&v| shape[v] != Vec3::ZERO).count();
+        assert_eq!(
+            moved,
+            0,
+            "{}: {moved} vertices outside both regions moved",
+            Blendshape::ALL[j]
+        );
+    }
+}

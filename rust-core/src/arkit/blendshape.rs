@@ -134,6 +134,32 @@ impl Blendshape {
         }
     }
 
+    /// ARKit's raw key for this shape: the string value of
+    /// `ARFaceAnchor.BlendShapeLocation` (`ARBlendShapeLocationEyeBlinkLeft
+    /// = "eyeBlink_L"`), which is what `ARFaceAnchor.blendShapes` and
+    /// `ARFaceGeometry(blendShapes:)` are keyed by. Apple abbreviates the
+    /// side to `_L` / `_R` on every sided shape but the four whose side is a
+    /// direction of motion (jawLeft, jawRight, mouthLeft, mouthRight).
+    pub fn arkit_key(self) -> String {
+        let name = self.name();
+        let directional = matches!(
+            self,
+            Blendshape::JawLeft
+                | Blendshape::JawRight
+                | Blendshape::MouthLeft
+                | Blendshape::MouthRight
+        );
+        match (
+            directional,
+            name.strip_suffix("Left"),
+            name.strip_suffix("Right"),
+        ) {
+            (false, Some(stem), _) => format!("{stem}_L"),
+            (false, _, Some(stem)) => format!("{stem}_R"),
+            _ => name.to_string(),
+        }
+    }
+
     /// Maps any spelling found in the wild onto an ARKit name.
     ///
     /// Accepted, case-insensitively: `eyeBlinkLeft`, `EyeBlinkLeft`,
@@ -187,6 +213,23 @@ pub struct UnknownBlendshape(pub String);
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn arkit_keys_abbreviate_the_side_as_apple_does() {
+        assert_eq!(Blendshape::EyeBlinkLeft.arkit_key(), "eyeBlink_L");
+        assert_eq!(Blendshape::MouthSmileRight.arkit_key(), "mouthSmile_R");
+        assert_eq!(Blendshape::JawLeft.arkit_key(), "jawLeft");
+        assert_eq!(Blendshape::MouthRight.arkit_key(), "mouthRight");
+        assert_eq!(Blendshape::BrowInnerUp.arkit_key(), "browInnerUp");
+        let abbreviated = Blendshape::ALL
+            .iter()
+            .filter(|b| b.arkit_key().contains('_'))
+            .count();
+        assert_eq!(abbreviated, 36);
+        for b in Blendshape::ALL {
+            assert_eq!(Blendshape::parse(&b.arkit_key()), Ok(b));
+        }
+    }
 
     #[test]
     fn apple_order_starts_and_ends_where_documented() {

@@ -149,12 +149,12 @@ fn avatar_mouth(built: &DefaultAvatar, s: &Subject, rim: &EyeHole) -> lid_contac
 #[test]
 fn mouth_close_with_jaw_open_brings_the_lips_as_close_as_the_person_does() {
     let built = default_avatar();
-    let rest_avatar = positions(&built);
+    let rest_avatar = positions(built);
     for n in 1..=4 {
         let s = subject(n);
         let rest = s.person.neutral();
         let rim = mouth_rim(&s.session, rest);
-        let opening = avatar_mouth(&built, &s, &rim);
+        let opening = avatar_mouth(built, &s, &rim);
         let (jaw, close) = (Blendshape::JawOpen, Blendshape::MouthClose);
         let mask_gap = |w: f64| {
             let (dj, dc) = (s.person.delta(jaw), s.person.delta(close));

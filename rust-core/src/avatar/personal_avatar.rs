@@ -3,7 +3,7 @@
 //! step it had to skip said plainly. The command line and the phone (the
 //! FFI) both call [`personal_avatar`]; neither repeats a decision.
 //!
-//! The steps, each in its own module: the face found ([`find_face`], or a
+//! The steps, each in its own module: the face found ([`find_face()`], or a
 //! registration cached from an earlier run), Eq. (4) ([`retarget`]), the
 //! seamless partial deformation transfer ([`implant`]), and the GLB
 //! written back ([`written_back_glb`]). Between steps the caller's

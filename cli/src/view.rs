@@ -21,6 +21,12 @@ use std::time::Duration;
 /// How to build the page, said whenever it is missing.
 const BUILD_HINT: &str = "npm --prefix viewer ci && npm --prefix viewer run build";
 
+/// The page may load only from this server (its script, its style, the
+/// files given) and from blobs it made itself: nothing from the network.
+const CONTENT_SECURITY_POLICY: &str = "default-src 'self'; img-src 'self' blob: data:; \
+     connect-src 'self' blob: data:; style-src 'self' 'unsafe-inline'; object-src 'none'; \
+     base-uri 'none'; form-action 'none'; frame-ancestors 'none'";
+
 /// The longest request head read (request line and headers).
 const MAX_HEAD_BYTES: usize = 16 * 1024;
 
@@ -89,7 +95,8 @@ pub fn view_command(args: &ViewArgs) -> CliResult {
 
 /// `viewer/dist` in the repository this binary was built from.
 fn default_viewer_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../viewer/dist")
+    let cli = Path::new(env!("CARGO_MANIFEST_DIR"));
+    cli.parent().unwrap_or(cli).join("viewer/dist")
 }
 
 /// Every regular file under the built page, by URL path (`/viewer.js`);
@@ -261,6 +268,7 @@ fn answer(stream: TcpStream, site: &Site, own: SocketAddr) -> std::io::Result<()
     let length = file.metadata()?.len();
     let header = format!(
         "HTTP/1.1 200 OK\r\nContent-Type: {}\r\nContent-Length: {length}\r\n\
+         Content-Security-Policy: {CONTENT_SECURITY_POLICY}\r\n\
          Cache-Control: no-store\r\nX-Content-Type-Options: nosniff\r\nConnection: close\r\n\r\n",
         route.content_type
     );

@@ -10,6 +10,7 @@ mod personalize;
 mod progress;
 mod replay;
 mod simulate;
+mod view;
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
@@ -135,6 +136,26 @@ enum Command {
         #[arg(long)]
         out: PathBuf,
     },
+    /// Show an avatar in the browser (the page in viewer/, built with npm):
+    /// 52 sliders by ARKit name, a take played back, the generic avatar
+    /// beside it. Serves on 127.0.0.1 only and prints the address.
+    View {
+        /// The avatar GLB (e.g. what `likeness avatar` wrote).
+        avatar: PathBuf,
+        /// The avatar before implanting, shown on the left with the same weights.
+        #[arg(long, value_name = "GLB")]
+        generic: Option<PathBuf>,
+        /// A weight stream to play: a Live Link Face CSV, or frames.csv from
+        /// `likeness export`.
+        #[arg(long, value_name = "CSV")]
+        take: Option<PathBuf>,
+        /// The port (default: a free one).
+        #[arg(long, default_value_t = 0)]
+        port: u16,
+        /// The built page (default: viewer/dist in this repository).
+        #[arg(long, value_name = "DIR")]
+        viewer_dir: Option<PathBuf>,
+    },
     /// Print a summary of a session file.
     Info {
         /// The session file.
@@ -187,6 +208,19 @@ fn main() -> ExitCode {
         Command::Evaluate { files, json } => personalize::evaluate_command(&files, json),
         Command::Import { dir, out } => interchange::import_command(&dir, &out),
         Command::Export { file, out } => interchange::export_command(&file, &out),
+        Command::View {
+            avatar,
+            generic,
+            take,
+            port,
+            viewer_dir,
+        } => view::view_command(&view::ViewArgs {
+            avatar,
+            generic,
+            take,
+            port,
+            viewer_dir,
+        }),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

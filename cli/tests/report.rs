@@ -225,12 +225,8 @@ fn a_report_of_a_committed_session() {
         .filter(|f| *f != "#FFFFFF")
         .map(|f| [1, 3, 5].map(|i| u8::from_str_radix(&f[i..i + 2], 16).expect("hex")))
         .collect();
-    let (first, last) = (fills[0], fills[fills.len() - 1]);
-    assert!(first[2] > 200 && first[0] < 40, "starts blue: {first:?}");
-    assert!(
-        last[0] > 200 && last[2] < 40 && last[1] < 40,
-        "ends red: {last:?}"
-    );
+    assert_eq!(fills[0], colour_map::error_colour(0.0), "starts blue");
+    assert_eq!(fills[fills.len() - 1], [255, 0, 0], "ends red");
 
     // The numbers are those of `evaluate --json`.
     let evaluated: Value = serde_json::from_slice(&evaluate.stdout).expect("JSON");

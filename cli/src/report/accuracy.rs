@@ -72,11 +72,22 @@ pub fn section(
                 })
             })
             .collect();
+        let names: Vec<String> = methods
+            .iter()
+            .map(|(m, _)| {
+                if *m == Method::DEFAULT {
+                    format!("{m} (product)")
+                } else {
+                    m.to_string()
+                }
+            })
+            .collect();
         let series: Vec<Bars<'_>> = methods
             .iter()
             .zip(&values)
-            .map(|((m, colour), v)| Bars {
-                name: m.name(),
+            .zip(&names)
+            .map(|(((_, colour), v), name)| Bars {
+                name,
                 colour: *colour,
                 values: v,
             })
@@ -318,8 +329,8 @@ fn lambda_svg(summary: &Value) -> ChartResult<String> {
                 .x_desc("λ")
                 .y_desc(what)
                 .x_label_formatter(&|x| format!("{x:.0e}"))
-                .label_style((FONT, 12))
-                .axis_desc_style((FONT, 13))
+                .label_style((FONT, 14))
+                .axis_desc_style((FONT, 16))
                 .draw()?;
             chart
                 .draw_series(LineSeries::new(recorded.clone(), DT.stroke_width(2)))?
@@ -355,7 +366,7 @@ fn lambda_svg(summary: &Value) -> ChartResult<String> {
                 .position(SeriesLabelPosition::UpperLeft)
                 .background_style(WHITE.mix(0.9))
                 .border_style(GREY)
-                .label_font((FONT, 12))
+                .label_font((FONT, 15))
                 .draw()?;
         }
         Ok(())

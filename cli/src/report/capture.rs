@@ -94,7 +94,8 @@ pub fn section(
     if let Some(max) = report.max_frame_error() {
         let _ = write!(
             body,
-            " Detected peaks lie at most {max} frames from the true peaks the simulator knows (tests: {}).",
+            " Detected peaks lie at most {max} frame{} from the true peaks the simulator knows (test expressions: {}).",
+            if max == 1 { "" } else { "s" },
             report
                 .max_test_frame_error()
                 .map_or("–".to_string(), |m| m.to_string())
@@ -235,7 +236,7 @@ fn timeline_svg(session: &Session, report: &ReplayReport) -> ChartResult<String>
         let mut chart = ChartBuilder::on(root)
             .margin(12)
             .x_label_area_size(36)
-            .y_label_area_size(100)
+            .y_label_area_size(112)
             .build_cartesian_2d(start..end, -0.6..lanes as f64 - 0.4)?;
         let label = |v: &f64| {
             let lane = lanes as f64 - 1.0 - v.round();
@@ -250,8 +251,8 @@ fn timeline_svg(session: &Session, report: &ReplayReport) -> ChartResult<String>
             .y_labels(lanes)
             .y_label_formatter(&label)
             .x_desc("time (s)")
-            .label_style((FONT, 13))
-            .axis_desc_style((FONT, 13))
+            .label_style((FONT, 15))
+            .axis_desc_style((FONT, 16))
             .light_line_style(WHITE)
             .draw()?;
         let untracked = session.frames.iter().filter(|f| !f.tracked);
@@ -284,7 +285,7 @@ fn timeline_svg(session: &Session, report: &ReplayReport) -> ChartResult<String>
             .position(SeriesLabelPosition::UpperRight)
             .background_style(WHITE.mix(0.9))
             .border_style(GREY)
-            .label_font((FONT, 12))
+            .label_font((FONT, 15))
             .draw()?;
         Ok(())
     })
@@ -331,7 +332,7 @@ fn weight_chart(
     let centre = step.frame.or(step.true_frame).and_then(time);
     let mut chart = ChartBuilder::on(area)
         .margin(4)
-        .caption(title, (FONT, 12).into_font().color(&colour))
+        .caption(title, (FONT, 14).into_font().color(&colour))
         .x_label_area_size(18)
         .y_label_area_size(26)
         .build_cartesian_2d(-WINDOW.0..WINDOW.1, 0.0..1.05)?;
@@ -339,7 +340,7 @@ fn weight_chart(
         .configure_mesh()
         .x_labels(3)
         .y_labels(3)
-        .label_style((FONT, 10))
+        .label_style((FONT, 12))
         .light_line_style(RGBColor(238, 238, 238))
         .draw()?;
     let Some(centre) = centre else {

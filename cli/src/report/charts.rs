@@ -89,8 +89,8 @@ pub fn grouped_bars(
             .x_label_formatter(&|x| integer_label(*x))
             .x_desc(x_desc)
             .y_desc(y_desc)
-            .label_style((FONT, 13))
-            .axis_desc_style((FONT, 14))
+            .label_style((FONT, 15))
+            .axis_desc_style((FONT, 16))
             .draw()?;
         let width = 0.8 / series.len().max(1) as f64;
         for (s, bars) in series.iter().enumerate() {
@@ -110,15 +110,15 @@ pub fn grouped_bars(
             .position(SeriesLabelPosition::UpperRight)
             .background_style(WHITE.mix(0.9))
             .border_style(GREY)
-            .label_font((FONT, 13))
+            .label_font((FONT, 15))
             .draw()?;
         Ok(())
     })
 }
 
-/// The y range of bar charts over their tallest bar: the top quarter is
-/// left for the legend.
-const LEGEND_ROOM: f64 = 1.4;
+/// The y range of bar charts over their tallest bar: the top third of the
+/// plot is left for the legend.
+const LEGEND_ROOM: f64 = 1.6;
 
 /// The colour of grid lines.
 pub const RULE: RGBColor = RGBColor(225, 225, 225);
@@ -147,7 +147,8 @@ pub fn colour_bar(width: u32, height: u32) -> ChartResult<String> {
         chart.draw_series((0..steps).map(|i| {
             let a = SCALE_MAX_MM * i as f64 / steps as f64;
             let b = SCALE_MAX_MM * (i + 1) as f64 / steps as f64;
-            let [r, g, bl] = error_colour((a + b) / 2.0);
+            // The first strip shows 0 mm, the last 5 mm, exactly.
+            let [r, g, bl] = error_colour(SCALE_MAX_MM * i as f64 / (steps - 1) as f64);
             Rectangle::new([(a, 0.0), (b, 1.0)], RGBColor(r, g, bl).filled())
         }))?;
         chart
@@ -163,8 +164,8 @@ pub fn colour_bar(width: u32, height: u32) -> ChartResult<String> {
                 }
             })
             .x_desc("error (mm)")
-            .label_style((FONT, 13))
-            .axis_desc_style((FONT, 13))
+            .label_style((FONT, 15))
+            .axis_desc_style((FONT, 16))
             .draw()?;
         Ok(())
     })

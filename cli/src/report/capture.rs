@@ -128,7 +128,12 @@ pub fn section(
         let (svg, size) = weights_svg(session, &steps, &time)?;
         let path = format!("capture/{file}.svg");
         files.add(path.clone(), svg.into_bytes());
-        let caption = format!("{}: {} prompts", escape(name), steps.len());
+        let caption = format!(
+            "{}: {} prompt{}",
+            escape(name),
+            steps.len(),
+            if steps.len() == 1 { "" } else { "s" }
+        );
         body.push_str(&html::figure(&path, size.0, size.1, name, &caption));
     }
 
@@ -332,6 +337,7 @@ fn weight_chart(
     let centre = step.frame.or(step.true_frame).and_then(time);
     let mut chart = ChartBuilder::on(area)
         .margin(4)
+        .margin_right(12)
         .caption(title, (FONT, 14).into_font().color(&colour))
         .x_label_area_size(18)
         .y_label_area_size(26)

@@ -99,7 +99,7 @@ fn default_glb_bytes(name: &Path) -> Result<Vec<u8>, Box<dyn std::error::Error>>
 
 /// The default avatar as a GLB read back (so it takes the same path as a
 /// user's file).
-fn default_glb() -> Result<GlbAvatar, Box<dyn std::error::Error>> {
+pub fn default_glb() -> Result<GlbAvatar, Box<dyn std::error::Error>> {
     let bytes = default_glb_bytes(Path::new("default-avatar.glb"))?;
     Ok(read_avatar_bytes(&bytes, "default avatar")?)
 }

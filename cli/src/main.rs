@@ -9,6 +9,7 @@ mod interchange;
 mod personalize;
 mod progress;
 mod replay;
+mod report;
 mod simulate;
 mod view;
 
@@ -156,6 +157,18 @@ enum Command {
         #[arg(long, value_name = "DIR")]
         viewer_dir: Option<PathBuf>,
     },
+    /// Write a session's report: a folder with index.html, renderings and
+    /// charts (the capture, §4.1's accuracy, Fig. 2 and 4–8).
+    Report {
+        /// The session file.
+        session: PathBuf,
+        /// The avatar (.glb or .gltf); default: the project's own.
+        #[arg(long)]
+        avatar: Option<PathBuf>,
+        /// The folder to write (a previous report there is replaced).
+        #[arg(long)]
+        out: PathBuf,
+    },
     /// Print a summary of a session file.
     Info {
         /// The session file.
@@ -206,6 +219,11 @@ fn main() -> ExitCode {
             personalize::personalize_command(&file, method, &out)
         }
         Command::Evaluate { files, json } => personalize::evaluate_command(&files, json),
+        Command::Report {
+            session,
+            avatar,
+            out,
+        } => report::report_command(&session, avatar.as_deref(), &out),
         Command::Import { dir, out } => interchange::import_command(&dir, &out),
         Command::Export { file, out } => interchange::export_command(&file, &out),
         Command::View {

@@ -3,7 +3,7 @@
 use crate::CliResult;
 use crate::info::read_session;
 use likeness::io::obj_writer::write_obj;
-use likeness::personalize::evaluation::{MeanErrors, evaluate, mean_errors};
+use likeness::personalize::evaluation::{ExpressionError, MeanErrors, evaluate, mean_errors};
 use likeness::personalize::lambda_selection::LambdaChoice;
 use likeness::personalize::personalization::lambda_sweep;
 use likeness::personalize::{FitFrames, Method, personalize};
@@ -61,6 +61,25 @@ fn describe_choice(choice: &LambdaChoice) -> String {
     format!("λ = {:.3e} ({}{bound})", choice.lambda, choice.rule)
 }
 
+/// One method's results over the sessions evaluated.
+struct MethodRuns {
+    method: Method,
+    means: Vec<MeanErrors>,
+    times: Vec<f64>,
+    choices: Vec<LambdaChoice>,
+}
+
+impl MethodRuns {
+    fn new(method: Method) -> MethodRuns {
+        MethodRuns {
+            method,
+            means: Vec::new(),
+            times: Vec::new(),
+            choices: Vec::new(),
+        }
+    }
+}
+
 /// Per-method results over all sessions.
 #[derive(Default, Serialize)]
 struct MethodReport {
@@ -87,25 +106,28 @@ struct MethodReport {
 
 /// λ values of the accuracy study: the paper's 1 down to 10⁻⁶ (two decades
 /// past `paper-cv`'s grid, to show where the optimum lies).
-const STUDY_GRID: [f64; 7] = [1.0, 1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6];
+pub const STUDY_GRID: [f64; 7] = [1.0, 1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6];
 
-/// One method's results over the sessions evaluated.
-struct MethodRuns {
-    method: Method,
-    means: Vec<MeanErrors>,
-    times: Vec<f64>,
-    choices: Vec<LambdaChoice>,
+/// One method run on one session: its blendshapes, its errors on each test
+/// expression and the median time of the runs.
+pub struct MethodRun {
+    /// The method.
+    pub method: Method,
+    /// What it computed.
+    pub personalized: likeness::personalize::personalization::Personalized,
+    /// Its errors on each test expression (§4.1).
+    pub errors: Vec<ExpressionError>,
+    /// Median wall time of one run (ms).
+    pub ms: f64,
 }
 
-impl MethodRuns {
-    fn new(method: Method) -> MethodRuns {
-        MethodRuns {
-            method,
-            means: Vec::new(),
-            times: Vec::new(),
-            choices: Vec::new(),
-        }
-    }
+/// Every method and the λ study on one session.
+pub struct SessionEvaluation {
+    /// One run per method, in the order of [`Method::ALL`].
+    pub runs: Vec<MethodRun>,
+    /// The paper's fit (captures) for each λ of [`STUDY_GRID`]: the means
+    /// over the test expressions.
+    pub curve: Vec<MeanErrors>,
 }
 
 /// How often each method is run to take the median time.
@@ -114,11 +136,12 @@ const TIMING_RUNS: usize = 5;
 fn timed(
     session: &Session,
     method: Method,
+    runs: usize,
 ) -> Result<(likeness::personalize::personalization::Personalized, f64), Box<dyn std::error::Error>>
 {
-    let mut times = Vec::with_capacity(TIMING_RUNS);
+    let mut times = Vec::with_capacity(runs);
     let mut result = None;
-    for _ in 0..TIMING_RUNS {
+    for _ in 0..runs.max(1) {
         let started = Instant::now();
         let r = personalize(session, method)?;
         times.push(started.elapsed().as_secs_f64() * 1e3);
@@ -126,7 +149,38 @@ fn timed(
     }
     times.sort_by(f64::total_cmp);
     let result = result.ok_or("no run")?;
-    Ok((result, times[TIMING_RUNS / 2]))
+    Ok((result, times[times.len() / 2]))
+}
+
+/// Runs every method (each `timing_runs` times, for the median time) and
+/// the λ study on `session` (`name` in messages); `step` is called after
+/// each method.
+pub fn evaluate_session(
+    name: &str,
+    session: &Session,
+    timing_runs: usize,
+    step: &dyn Fn(),
+) -> Result<SessionEvaluation, Box<dyn std::error::Error>> {
+    if session.tests.is_empty() {
+        return Err(format!("{name}: the session has no test expressions to evaluate on").into());
+    }
+    let mut runs = Vec::with_capacity(Method::ALL.len());
+    for method in Method::ALL {
+        let (personalized, ms) = timed(session, method, timing_runs)?;
+        runs.push(MethodRun {
+            method,
+            errors: evaluate(&personalized.shapes, session),
+            personalized,
+            ms,
+        });
+        step();
+    }
+    let sweep = lambda_sweep(session, FitFrames::Captures, &STUDY_GRID)?;
+    let curve = sweep
+        .iter()
+        .map(|fit| mean_errors(&evaluate(&fit.shapes, session)))
+        .collect();
+    Ok(SessionEvaluation { runs, curve })
 }
 
 /// Evaluates every method on every session's test expressions (§4.1).
@@ -153,30 +207,63 @@ pub fn evaluation_report(
     names: &[String],
     load: &Loader,
 ) -> Result<Value, Box<dyn std::error::Error>> {
-    let mut per_method: Vec<MethodRuns> = Method::ALL.iter().map(|m| MethodRuns::new(*m)).collect();
-    let mut curve: Vec<Vec<MeanErrors>> = vec![Vec::new(); STUDY_GRID.len()];
     let progress = crate::progress::bar("evaluating", (names.len() * Method::ALL.len()) as u64);
+    let mut evaluations = Vec::with_capacity(names.len());
     for (i, name) in names.iter().enumerate() {
         let session = load(i)?;
-        if session.tests.is_empty() {
-            return Err(
-                format!("{name}: the session has no test expressions to evaluate on").into(),
-            );
-        }
-        for runs in per_method.iter_mut() {
-            let (result, ms) = timed(&session, runs.method)?;
-            runs.means
-                .push(mean_errors(&evaluate(&result.shapes, &session)));
-            runs.times.push(ms);
-            runs.choices.extend(result.lambda_choice);
-            progress.inc(1);
-        }
-        let sweep = lambda_sweep(&session, FitFrames::Captures, &STUDY_GRID)?;
-        for (k, fit) in sweep.iter().enumerate() {
-            curve[k].push(mean_errors(&evaluate(&fit.shapes, &session)));
-        }
+        let evaluation = evaluate_session(name, &session, TIMING_RUNS, &|| progress.inc(1))?;
+        evaluations.push(summarize_session(&evaluation));
     }
     progress.finish_and_clear();
+    Ok(report_json(names, &evaluations)?)
+}
+
+/// What the report of several sessions keeps of each: per method the means,
+/// the time and the λ choice; the λ study's means.
+pub struct SessionSummary {
+    methods: Vec<(Method, MeanErrors, f64, Option<LambdaChoice>)>,
+    curve: Vec<MeanErrors>,
+}
+
+/// Keeps what [`report_json`] needs of a session's evaluation.
+pub fn summarize_session(evaluation: &SessionEvaluation) -> SessionSummary {
+    SessionSummary {
+        methods: evaluation
+            .runs
+            .iter()
+            .map(|r| {
+                (
+                    r.method,
+                    mean_errors(&r.errors),
+                    r.ms,
+                    r.personalized.lambda_choice.clone(),
+                )
+            })
+            .collect(),
+        curve: evaluation.curve.clone(),
+    }
+}
+
+/// The object `evaluate --json` prints for the sessions `names`, from their
+/// summaries: each method's means over the sessions, the λ study, the
+/// ratios of the paper's §4.1 and the median times.
+pub fn report_json(
+    names: &[String],
+    sessions: &[SessionSummary],
+) -> Result<Value, serde_json::Error> {
+    let mut per_method: Vec<MethodRuns> = Method::ALL.iter().map(|m| MethodRuns::new(*m)).collect();
+    let mut curve: Vec<Vec<MeanErrors>> = vec![Vec::new(); STUDY_GRID.len()];
+    for session in sessions {
+        for (runs, (method, means, ms, choice)) in per_method.iter_mut().zip(&session.methods) {
+            debug_assert_eq!(runs.method, *method);
+            runs.means.push(*means);
+            runs.times.push(*ms);
+            runs.choices.extend(choice.clone());
+        }
+        for (k, means) in session.curve.iter().enumerate() {
+            curve[k].push(*means);
+        }
+    }
     let mut methods = Map::new();
     let mut timings = Map::new();
     for MethodRuns {

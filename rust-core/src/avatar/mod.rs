@@ -10,8 +10,10 @@
 //! | §3.3, Eq. (4) | automatic retargeting `A_j`, the 52 × k weight map | [`retargeting`] |
 //! | §3.3, Fig. 3 | seamless partial deformation transfer: the person's shapes implanted | [`partial_transfer`] |
 //! | §3.3 end to end | the person's avatar as GLB bytes, steps skipped said, progress and cancel | [`personal_avatar`] |
+//! | §4.2, Fig. 7 and 8 | manual, automatic and personalized animation against the person's expression on the face region | [`likeness_check`] |
 
 pub mod glb;
+pub mod likeness_check;
 pub mod model;
 pub mod partial_transfer;
 pub mod personal_avatar;

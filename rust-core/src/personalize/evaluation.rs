@@ -35,6 +35,15 @@ pub fn mesh_error(a: &[DVec3], b: &[Vec3]) -> MeshError {
     }
 }
 
+/// The error of every vertex of `a` against `b` (`‖a_v − b_v‖`), in mm:
+/// where [`mesh_error`]'s maximum lies, for colour-coded error maps.
+pub fn vertex_errors_mm<P: Copy + Into<DVec3>>(a: &[DVec3], b: &[P]) -> Vec<f64> {
+    a.iter()
+        .zip(b)
+        .map(|(p, q)| (*p - (*q).into()).length() * 1e3)
+        .collect()
+}
+
 /// The errors of one test expression.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ExpressionError {
@@ -123,5 +132,18 @@ mod tests {
             error.rmse_mm
         );
         assert!((error.max_mm - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn vertex_errors_locate_the_maximum() {
+        let a = vec![DVec3::ZERO; 3];
+        let b = vec![Vec3::ZERO, Vec3::new(0.0, 0.002, 0.0), Vec3::ZERO];
+        let errors = vertex_errors_mm(&a, &b);
+        assert_eq!(errors.len(), 3);
+        assert!((errors[1] - 2.0).abs() < 1e-6 && errors[0] == 0.0);
+        let largest = errors.iter().copied().fold(0.0, f64::max);
+        assert!((largest - mesh_error(&a, &b).max_mm).abs() < 1e-9);
+        let doubles = vertex_errors_mm(&a, &[DVec3::X * 0.001; 3]);
+        assert!(doubles.iter().all(|e| (e - 1.0).abs() < 1e-12));
     }
 }

@@ -33,6 +33,10 @@ pub mod session;
 #[cfg(test)]
 mod test_support;
 
+/// This crate's version (`Cargo.toml`), for reports and the app's about
+/// screen.
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");
+
 pub use arkit::{
     BLENDSHAPE_COUNT, Blendshape, Blendshapes, BlendshapesError, UnknownBlendshape, Weights,
 };

@@ -27,6 +27,11 @@ pub enum PersonalizeError {
     /// Nothing was captured, so there is nothing to personalize from.
     #[error("the session has no captured expressions")]
     NoCaptures,
+    /// The caller of
+    /// [`personalize_with_progress`](super::personalization::personalize_with_progress)
+    /// asked to stop before this stage.
+    #[error("cancelled before {}", .0.name())]
+    Cancelled(super::method::PersonalizeStage),
     /// Parts given to a fitting step do not fit together: a mesh or a field
     /// without one entry per vertex, or not one field per shape. Only the
     /// low-level API ([`BlendshapeFit`](super::blendshape_fit::BlendshapeFit),

@@ -29,5 +29,5 @@ pub mod regularization_weights;
 
 pub use error::PersonalizeError;
 pub use generic_blendshapes::{GenericBlendshapes, generic_blendshapes};
-pub use method::{FitFrames, Method};
-pub use personalization::{Personalized, personalize};
+pub use method::{FitFrames, Method, PersonalizeStage};
+pub use personalization::{Personalized, personalize, personalize_with_progress};

@@ -29,7 +29,7 @@ use super::error::PersonalizeError;
 use super::frame_selection::fit_frames;
 use super::generic_blendshapes::{GenericBlendshapes, generic_blendshapes};
 use super::lambda_selection::{LambdaChoice, LambdaRule, choose_lambda};
-use super::method::{FitFrames, Method};
+use super::method::{FitFrames, Method, PersonalizeStage};
 use super::regularization_weights::regularization_weights_per_shape;
 use crate::arkit::{BLENDSHAPE_COUNT, Blendshape, Blendshapes, Weights};
 use crate::session::Session;
@@ -57,6 +57,24 @@ fn weights_f64(w: &Weights) -> [f64; BLENDSHAPE_COUNT] {
 
 /// Personalizes the session's blendshapes with `method`.
 pub fn personalize(session: &Session, method: Method) -> Result<Personalized, PersonalizeError> {
+    personalize_with_progress(session, method, &mut |_| true)
+}
+
+/// [`personalize`], telling `progress` which stage starts; it returns
+/// `false` to stop there ([`PersonalizeError::Cancelled`]).
+pub fn personalize_with_progress(
+    session: &Session,
+    method: Method,
+    progress: &mut dyn FnMut(PersonalizeStage) -> bool,
+) -> Result<Personalized, PersonalizeError> {
+    let mut go = |stage| {
+        if progress(stage) {
+            Ok(())
+        } else {
+            Err(PersonalizeError::Cancelled(stage))
+        }
+    };
+    go(PersonalizeStage::Transferring)?;
     let generic = generic_blendshapes(session)?;
     let captured = captured_prompts(session);
     let finish = |shapes, lambda_choice: Option<LambdaChoice>| Personalized {
@@ -72,20 +90,19 @@ pub fn personalize(session: &Session, method: Method) -> Result<Personalized, Pe
     if method != Method::Dt && session.captures.is_empty() {
         return Err(PersonalizeError::NoCaptures);
     }
-    let fitted = |frames, rule| -> Result<Personalized, PersonalizeError> {
-        let (choice, shapes) = fit_with_rule(session, &generic, frames, rule)?;
-        Ok(finish(shapes, Some(choice)))
-    };
-    match method {
-        Method::Dt => Ok(finish(generic.shapes.clone(), None)),
+    let (frames, rule) = match method {
+        Method::Dt => return Ok(finish(generic.shapes.clone(), None)),
         Method::Ebfr => {
+            go(PersonalizeStage::Fitting)?;
             let shapes = ebfr_blendshapes(session, &generic, &captured)?;
-            Ok(finish(shapes, None))
+            return Ok(finish(shapes, None));
         }
-        Method::Paper => fitted(FitFrames::Captures, LambdaRule::Fixed),
-        Method::PaperCv => fitted(FitFrames::Captures, LambdaRule::Gcv),
-        Method::Multi => fitted(FitFrames::AroundPeaks, LambdaRule::Gcv),
-    }
+        Method::Paper => (FitFrames::Captures, LambdaRule::Fixed),
+        Method::PaperCv => (FitFrames::Captures, LambdaRule::Gcv),
+        Method::Multi => (FitFrames::AroundPeaks, LambdaRule::Gcv),
+    };
+    let (choice, shapes) = fit_with_rule(session, &generic, frames, rule, &mut go)?;
+    Ok(finish(shapes, Some(choice)))
 }
 
 /// The observations of `E_fit`: the captures, and with
@@ -165,15 +182,23 @@ pub fn lambda_fit(
     if session.captures.is_empty() {
         return Err(PersonalizeError::NoCaptures);
     }
-    fit_with_rule(session, &generic_blendshapes(session)?, frames, rule)
+    let generic = generic_blendshapes(session)?;
+    fit_with_rule(session, &generic, frames, rule, &mut |_| Ok(()))
 }
 
+/// The fit with `frames`, λ by `rule`; `go` hears the stages
+/// [`PersonalizeStage::ChoosingLambda`] (rules that search) and
+/// [`PersonalizeStage::Fitting`], and may stop before either.
 fn fit_with_rule(
     session: &Session,
     generic: &GenericBlendshapes,
     frames: FitFrames,
     rule: LambdaRule,
+    go: &mut dyn FnMut(PersonalizeStage) -> Result<(), PersonalizeError>,
 ) -> Result<(LambdaChoice, Blendshapes), PersonalizeError> {
+    if rule != LambdaRule::Fixed {
+        go(PersonalizeStage::ChoosingLambda)?;
+    }
     let fit = assemble_fit(session, generic, frames);
     let choice = match (frames, rule) {
         // Frames next to a peak repeat its noise (the tracker filters over
@@ -186,6 +211,7 @@ fn fit_with_rule(
         }
         _ => choose_lambda(session, &fit, rule)?,
     };
+    go(PersonalizeStage::Fitting)?;
     let shapes = fit.solve(choice.lambda)?;
     Ok((choice, shapes))
 }
@@ -244,6 +270,41 @@ mod tests {
                 personalize(&flat, method),
                 Err(PersonalizeError::EyeHoles(EyeHoleError::EyeTooSmall { .. }))
             ));
+        }
+    }
+
+    #[test]
+    fn stages_are_reported_in_order_and_cancelling_stops_there() {
+        let (topology, neutral, _) = face_grid();
+        let face = stretch_session(topology, neutral);
+        let expected: [(Method, &[PersonalizeStage]); 3] = [
+            (Method::Dt, &[PersonalizeStage::Transferring]),
+            (
+                Method::Ebfr,
+                &[PersonalizeStage::Transferring, PersonalizeStage::Fitting],
+            ),
+            (
+                Method::Multi,
+                &[
+                    PersonalizeStage::Transferring,
+                    PersonalizeStage::ChoosingLambda,
+                    PersonalizeStage::Fitting,
+                ],
+            ),
+        ];
+        for (method, stages) in expected {
+            let mut seen = Vec::new();
+            let p = personalize_with_progress(&face, method, &mut |s| {
+                seen.push(s);
+                true
+            })
+            .unwrap();
+            assert_eq!(seen, stages, "{method}");
+            assert_eq!(p.shapes, personalize(&face, method).unwrap().shapes);
+        }
+        for stage in [PersonalizeStage::ChoosingLambda, PersonalizeStage::Fitting] {
+            let r = personalize_with_progress(&face, Method::Multi, &mut |s| s != stage);
+            assert_eq!(r.unwrap_err(), PersonalizeError::Cancelled(stage));
         }
     }
 

@@ -31,6 +31,27 @@ impl CaptureQuality {
     pub fn is_clean(&self) -> bool {
         !self.weak && self.dominated_by.is_none() && !self.tracking_lost && self.high_rest.is_none()
     }
+
+    /// Each raised flag as a sentence for the person who made the capture
+    /// (empty when [clean](Self::is_clean)), in the order of the fields.
+    pub fn warnings(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        if self.weak {
+            out.push("weak: the expression was performed only partly".to_string());
+        }
+        if let Some(other) = self.dominated_by {
+            out.push(format!("{other} was stronger than the requested shape"));
+        }
+        if self.tracking_lost {
+            out.push("the face was lost around the captured moment".to_string());
+        }
+        if let Some(shape) = self.high_rest {
+            out.push(format!(
+                "the relaxed face rests high on {shape}: expressions are measured from it (retake the neutral scan if the face was not relaxed)"
+            ));
+        }
+        out
+    }
 }
 
 /// Thresholds of the quality flags; [`Default`] gives the documented values.
@@ -119,6 +140,23 @@ mod tests {
         w.set(Blendshape::EyeSquintLeft, 0.75);
         let q = assess(Blendshape::EyeBlinkLeft, &w, &QualityConfig::default());
         assert_eq!(q.dominated_by, Some(Blendshape::EyeBlinkRight));
+    }
+
+    #[test]
+    fn each_flag_is_one_sentence_naming_the_shape() {
+        assert!(CaptureQuality::default().warnings().is_empty());
+        let q = CaptureQuality {
+            weak: true,
+            dominated_by: Some(Blendshape::JawOpen),
+            tracking_lost: true,
+            high_rest: Some(Blendshape::BrowDownLeft),
+        };
+        let w = q.warnings();
+        assert_eq!(w.len(), 4);
+        assert!(w[0].starts_with("weak"));
+        assert!(w[1].starts_with("jawOpen"));
+        assert!(w[2].contains("lost"));
+        assert!(w[3].contains("browDownLeft"));
     }
 
     #[test]

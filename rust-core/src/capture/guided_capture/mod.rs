@@ -202,6 +202,17 @@ pub struct Progress {
     pub current: Option<Step>,
 }
 
+impl Progress {
+    /// Share of the steps done, captured or skipped, in `[0, 1]` (a
+    /// retake after the end counts nothing twice).
+    pub fn fraction(&self) -> f64 {
+        if self.total == 0 {
+            return 1.0;
+        }
+        ((self.captured + self.skipped) as f64 / self.total as f64).min(1.0)
+    }
+}
+
 /// A call the state machine cannot take.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum GuidedCaptureError {

@@ -118,6 +118,7 @@ fn a_whole_session_captures_every_prompt_at_its_peak_in_order() {
         (p.total, p.captured, p.skipped, p.current),
         (53, 53, 0, None)
     );
+    assert_eq!(p.fraction(), 1.0);
     let c = capture
         .capture_of(Step::Expression(Blendshape::JawOpen))
         .unwrap();
@@ -172,6 +173,8 @@ fn skipping_moves_on_but_not_past_the_neutral_scan() {
         ]
     );
     assert_eq!(capture.progress().skipped, 1);
+    // The neutral scan and one skipped prompt of 53 steps.
+    assert!((capture.progress().fraction() - 2.0 / 53.0).abs() < 1e-12);
 }
 
 #[test]

@@ -11,7 +11,9 @@
 //! | §3.3, Fig. 3 | seamless partial deformation transfer: the person's shapes implanted | [`partial_transfer`] |
 //! | §3.3 end to end | the person's avatar as GLB bytes, steps skipped said, progress and cancel | [`personal_avatar`] |
 //! | §4.2, Fig. 7 and 8 | manual, automatic and personalized animation against the person's expression on the face region | [`likeness_check`] |
+//! | | what was made, in a few sentences for the app | [`avatar_summary`] |
 
+pub mod avatar_summary;
 pub mod glb;
 pub mod likeness_check;
 pub mod model;

@@ -353,3 +353,20 @@ pub fn looks(avatar: &Avatar) -> Vec<likeness::avatar::glb::MeshLook> {
         })
         .collect()
 }
+
+/// The default avatar as the bytes of a GLB file, with its materials
+/// ([`looks`]): what `likeness default-avatar` writes and what the app
+/// personalizes when the person brings no avatar of their own.
+pub fn default_avatar_glb() -> Result<Vec<u8>, likeness::avatar::glb::GlbError> {
+    use likeness::avatar::glb::{NewGlbOptions, new_avatar_glb};
+    let built = default_avatar();
+    let options = NewGlbOptions {
+        looks: looks(&built.avatar),
+        ..NewGlbOptions::default()
+    };
+    new_avatar_glb(
+        &built.avatar,
+        &options,
+        std::path::Path::new("default-avatar.glb"),
+    )
+}

@@ -459,3 +459,20 @@ fn default_avatar_head_has_no_folds() {
         }
     }
 }
+
+#[test]
+fn default_avatar_glb_reads_back_with_all_52_targets_and_its_materials() {
+    use likeness::avatar::glb::{check_avatar, read_avatar_bytes};
+    let bytes = default_avatar_glb().unwrap();
+    assert_eq!(&bytes[..4], b"glTF");
+    let glb = read_avatar_bytes(&bytes, "default avatar").unwrap();
+    assert_eq!(check_avatar(&glb).unwrap().found(), 52);
+    assert_eq!(glb.avatar.vertex_count(), avatar().avatar.vertex_count());
+    let materials = glb.json()["materials"].as_array().unwrap().len();
+    assert_eq!(materials, avatar().avatar.meshes.len());
+    assert_eq!(
+        default_avatar_glb().unwrap(),
+        bytes,
+        "the same bytes every time"
+    );
+}

@@ -64,6 +64,16 @@ pub enum SkipReason {
     Requested,
 }
 
+impl SkipReason {
+    /// The reason in words, for the person.
+    pub const fn description(self) -> &'static str {
+        match self {
+            SkipReason::TimedOut => "timed out: the expression was not seen in time",
+            SkipReason::Requested => "skipped on request",
+        }
+    }
+}
+
 /// What the app hears back after each call.
 #[derive(Clone, Debug, PartialEq)]
 pub enum CaptureEvent {

@@ -151,6 +151,7 @@ fn a_prompt_not_performed_times_out_and_the_next_one_goes_on() {
         CaptureEvent::Captured { step: Step::Expression(s), frame, .. }
             if *s == PROMPT_ORDER[1] && *frame == peak as u64)));
     assert_eq!(capture.skipped(), &[Step::Expression(PROMPT_ORDER[0])]);
+    assert!(SkipReason::TimedOut.description().starts_with("timed out"));
 }
 
 #[test]

@@ -1,0 +1,72 @@
+//! The Likeness core for Swift (and Python, in the tests), through UniFFI.
+//!
+//! This crate decides nothing: it converts flat arrays into meshes and
+//! weights, the core's errors into [`LikenessError`], and calls the core
+//! (`likeness`). The exported surface is `/work/contract/ffi-api.md`'s,
+//! with the additions listed in `bindings/README.md`.
+//!
+//! | what | file |
+//! |---|---|
+//! | ARKit's names, the methods, the version | `lib.rs` |
+//! | the records and the array conversions | [`types`] |
+//! | the one error type | [`error`] |
+//! | the capture the app drives frame by frame | [`capture`] |
+//! | a recorded session: load, save, summary, personalize | [`session`] |
+//! | the person's face: pose, mask, avatar | [`personalized`] |
+//! | the foreign progress listener | [`progress`] |
+
+uniffi::setup_scaffolding!();
+
+pub mod capture;
+pub mod error;
+pub mod personalized;
+pub mod progress;
+pub mod session;
+pub mod types;
+
+pub use capture::{CaptureEvent, CaptureSession};
+pub use error::LikenessError;
+pub use personalized::PersonalizedFace;
+pub use progress::ProgressListener;
+pub use session::SessionHandle;
+pub use types::{
+    AvatarResult, CaptureInfo, CaptureProgress, FaceTemplate, MethodInfo, Prompt, QualitySummary,
+    RecordedFrame,
+};
+
+use likeness::Blendshape;
+use likeness::personalize::Method;
+
+/// ARKit's 52 blendshape names in the core's order (Apple's spelling, e.g.
+/// `eyeBlinkLeft`): the order of every weight array crossing this API.
+#[uniffi::export]
+pub fn arkit_names() -> Vec<String> {
+    Blendshape::ALL
+        .iter()
+        .map(|b| b.name().to_string())
+        .collect()
+}
+
+/// The core's version.
+#[uniffi::export]
+pub fn core_version() -> String {
+    likeness::VERSION.to_string()
+}
+
+/// Every personalization method, baselines first.
+#[uniffi::export]
+pub fn methods() -> Vec<MethodInfo> {
+    Method::ALL
+        .iter()
+        .map(|m| MethodInfo {
+            name: m.name().to_string(),
+            description: m.description().to_string(),
+        })
+        .collect()
+}
+
+/// The method the product uses when none is named.
+#[uniffi::export]
+pub fn default_method() -> String {
+    Method::DEFAULT.name().to_string()
+}

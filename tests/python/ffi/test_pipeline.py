@@ -1,0 +1,119 @@
+"""Capture, save, load, personalize, avatar: through the FFI the same
+numbers and the same bytes as `likeness` gives on the same session file.
+"""
+
+import json
+from pathlib import Path
+
+import pytest
+
+from conftest import SUBJECT_1
+
+# OBJ files carry 7 decimals (0.1 µm); pose is single precision.
+OBJ_TOLERANCE = 1.5e-7
+
+
+@pytest.fixture(scope="module")
+def captured(ffi, full_replay, tmp_path_factory):
+    """The session the FFI's capture made of the full stream, saved: the
+    handle and its file."""
+    handle = full_replay.capture.finish()
+    path = tmp_path_factory.mktemp("captured") / "captured.likeness"
+    handle.save(str(path))
+    return handle, path
+
+
+def read_obj(path):
+    return [
+        float(x)
+        for line in Path(path).read_text().splitlines()
+        if line.startswith("v ")
+        for x in line.split()[1:]
+    ]
+
+
+def assert_close(a, b, what):
+    assert len(a) == len(b), what
+    worst = max(abs(x - y) for x, y in zip(a, b))
+    assert worst <= OBJ_TOLERANCE, f"{what}: {worst}"
+
+
+def assert_personalization_matches_the_command(ffi, cli, face, path, tmp_path):
+    out = tmp_path / "shapes"
+    cli("personalize", path, "--out", out)
+    names = ffi.arkit_names()
+    assert_close(face.pose([0.0] * 52), read_obj(out / "neutral.obj"), "neutral")
+    for j, name in enumerate(names):
+        one = [0.0] * 52
+        one[j] = 1.0
+        assert_close(face.pose(one), read_obj(out / f"{name}.obj"), name)
+
+
+def test_the_finished_capture_is_a_session_that_saves_and_loads_back(ffi, captured, full_replay):
+    handle, path = captured
+    loaded = ffi.SessionHandle.load(str(path))
+    assert loaded.template() == handle.template()
+    count = len(full_replay.push_seconds)
+    assert loaded.recorded_frame_count() == handle.recorded_frame_count() == count
+    assert loaded.quality_summary() == handle.quality_summary()
+    summary = handle.quality_summary()
+    assert summary.captured == 52 and summary.skipped == []
+    assert summary.headline.startswith("All 52 expressions captured")
+    # Meshes are kept near the captures only.
+    frames = [loaded.recorded_frame(i) for i in range(0, loaded.recorded_frame_count(), 7)]
+    with_mesh = sum(1 for f in frames if f.vertices)
+    assert 0 < with_mesh < len(frames)
+    assert all(len(f.vertices) in (0, 3660) for f in frames)
+    # The capture takes no more calls once finished.
+    with pytest.raises(ffi.LikenessError.WrongOrder):
+        full_replay.capture.push_frame(1e6, [0.0] * 52, [], True)
+    with pytest.raises(ffi.LikenessError.WrongOrder):
+        full_replay.capture.finish()
+    assert full_replay.capture.is_finished()
+    assert full_replay.capture.progress() == full_replay.progress
+
+
+def test_saving_replaces_the_file_whole_and_leaves_no_temporary(ffi, subject_1, tmp_path):
+    path = tmp_path / "again.likeness"
+    path.write_bytes(b"an older file")
+    subject_1.save(str(path))
+    assert path.read_bytes() == SUBJECT_1.read_bytes()
+    assert [p.name for p in tmp_path.iterdir()] == ["again.likeness"]
+
+
+def test_the_committed_session_personalizes_to_the_commands_shapes(ffi, cli, subject_1, tmp_path):
+    face = subject_1.personalize(None, None)
+    assert face.method() == ffi.default_method() == "multi"
+    assert len(face.triangles()) == len(subject_1.template().triangles)
+    assert_personalization_matches_the_command(ffi, cli, face, SUBJECT_1, tmp_path)
+
+
+def test_the_captured_session_personalizes_to_the_commands_shapes(ffi, cli, captured, tmp_path):
+    handle, path = captured
+    face = handle.personalize("multi", None)
+    assert_personalization_matches_the_command(ffi, cli, face, path, tmp_path)
+
+
+def test_the_mask_glb_is_the_commands(cli, subject_1, tmp_path):
+    out = tmp_path / "mask.glb"
+    cli("avatar", SUBJECT_1, "--mask-only", "--out", out)
+    assert subject_1.personalize(None, None).mask_glb() == out.read_bytes()
+
+
+def test_the_captured_sessions_avatar_is_the_commands_byte_for_byte(ffi, cli, captured, tmp_path):
+    handle, path = captured
+    out, map_path = tmp_path / "avatar.glb", tmp_path / "map.json"
+    report = json.loads(
+        cli(
+            "avatar", path, "--out", out, "--retarget-map", map_path,
+            "--cache-dir", tmp_path / "cache", "--json",
+        )
+    )
+    result = handle.personalize(None, None).avatar(None, None)
+    assert result.glb == out.read_bytes()
+    assert result.retarget_map_json == map_path.read_text()
+    assert result.warnings == report["warnings"]
+    assert result.summary.startswith("default avatar: ")
+    assert f"{report['face_vertices']} vertices" in result.summary
+    retarget = json.loads(result.retarget_map_json)
+    assert retarget["arkit"] == ffi.arkit_names()

@@ -2,8 +2,8 @@
 //!
 //! This crate decides nothing: it converts flat arrays into meshes and
 //! weights, the core's errors into [`LikenessError`], and calls the core
-//! (`likeness`). The exported surface is `/work/contract/ffi-api.md`'s,
-//! with the additions listed in `bindings/README.md`.
+//! (`likeness`). The exported surface is the contract the app is written
+//! against, with the changes `bindings/README.md` lists.
 //!
 //! | what | file |
 //! |---|---|
@@ -45,6 +45,15 @@ pub fn arkit_names() -> Vec<String> {
         .iter()
         .map(|b| b.name().to_string())
         .collect()
+}
+
+/// ARKit's raw keys for the same 52 shapes, in the same order: the string
+/// values of `ARFaceAnchor.BlendShapeLocation` (`eyeBlink_L`, `jawOpen`),
+/// which `ARFaceAnchor.blendShapes` and `ARFaceGeometry(blendShapes:)` are
+/// keyed by (an addition to the contract; see `bindings/README.md`).
+#[uniffi::export]
+pub fn arkit_keys() -> Vec<String> {
+    Blendshape::ALL.iter().map(|b| b.arkit_key()).collect()
 }
 
 /// The core's version.

@@ -111,7 +111,7 @@ APPLE_NAMES = frozenset(
     CaseIterable Comparable Codable Decodable Encodable Collection Sequence
     RandomAccessCollection MemoryLayout SIMD2 SIMD3 SIMD4 FixedWidthInteger
     BinaryFloatingPoint Range ClosedRange KeyPath MainActor Task TimeInterval
-    Swift Foundation CustomStringConvertible
+    Swift Foundation CustomStringConvertible ObjectIdentifier AnyHashable
 
     Bundle Data Date DateFormatter DispatchQueue FileAttributeKey FileManager
     FileProtectionType JSONDecoder JSONEncoder Locale LocalizedError NSError

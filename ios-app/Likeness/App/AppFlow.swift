@@ -14,7 +14,7 @@ final class AppFlow {
         case result(ResultModel)
     }
 
-    private(set) var screen = Screen.start
+    private(set) var screen: Screen = .start
     /// Why reopening the last capture failed, for the start screen.
     private(set) var startProblem: String?
 

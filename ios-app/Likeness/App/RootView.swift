@@ -16,10 +16,14 @@ struct RootView: View {
                 model: model,
                 onCancel: { flow.startOver() },
                 onRetry: { flow.startCapture() })
+                // A new capture is a new screen: its camera starts on appear.
+                .id(ObjectIdentifier(model))
         case .processing(let model):
             ProcessingView(model: model, onStartOver: { flow.startOver() })
+                .id(ObjectIdentifier(model))
         case .result(let model):
             ResultView(model: model, onStartOver: { flow.startOver() })
+                .id(ObjectIdentifier(model))
         }
     }
 }

@@ -20,7 +20,7 @@ final class CaptureModel {
         case failed(String)
     }
 
-    private(set) var stage = Stage.lookingForFace
+    private(set) var stage: Stage = .lookingForFace
     /// The prompt the person is asked to make now.
     private(set) var prompt: Prompt?
     /// Captured / skipped / total, as the core counts them.
@@ -32,15 +32,15 @@ final class CaptureModel {
     /// A one-off message: a skipped prompt, a refused retake.
     private(set) var notice: String?
     /// Tracking is lost: the core waits until the face is back.
-    private(set) var isPaused = false
+    private(set) var isPaused: Bool = false
     /// Whether `previewNode` shows the current prompt's expression.
-    private(set) var hasPreview = false
+    private(set) var hasPreview: Bool = false
 
     /// The picture of the current expression; its geometry changes per prompt.
-    @ObservationIgnored let previewNode = SCNNode()
+    let previewNode = SCNNode()
     @ObservationIgnored private var triangles: [UInt32] = []
     @ObservationIgnored private var driver: CaptureDriver?
-    @ObservationIgnored private let onSaved: (SavedSession) -> Void
+    private let onSaved: (SavedSession) -> Void
 
     /// - Parameter onSaved: called once the finished capture is saved.
     init(onSaved: @escaping (SavedSession) -> Void) {
@@ -86,7 +86,9 @@ final class CaptureModel {
             stage = .capturing
         case .events(let events, let progress):
             self.progress = progress
-            events.forEach(handle)
+            for event in events {
+                handle(event)
+            }
         case .preview(let promptIndex, let vertices):
             guard prompt?.index == promptIndex else { return }
             previewNode.geometry = vertices.flatMap { MeshGeometry.make(vertices: $0, triangles: triangles) }

@@ -17,7 +17,9 @@ enum Storage {
     /// The retarget map's file name.
     static let retargetMapFileName = "retarget-map.json"
 
-    private static let protection: [FileAttributeKey: Any] = [.protectionKey: FileProtectionType.complete]
+    private static var protection: [FileAttributeKey: Any] {
+        [.protectionKey: FileProtectionType.complete]
+    }
 
     /// `Documents/Captures`, made if missing.
     static func capturesFolder() throws -> URL {

@@ -17,17 +17,17 @@ final class ProcessingModel {
         case failed(String)
     }
 
-    private(set) var state = State.running
-    private(set) var step = Step.personalizing
+    private(set) var state: State = .running
+    private(set) var step: Step = .personalizing
     /// The core's name for what it is doing now.
-    private(set) var stage = ""
+    private(set) var stage: String = ""
     /// How far the current stage is, 0…1, as the core reports it.
     private(set) var fraction: Double = 0
 
     /// The capture being processed.
     let saved: SavedSession
     @ObservationIgnored private var reporter: ProgressReporter?
-    @ObservationIgnored private let onDone: (ResultModel) -> Void
+    private let onDone: (ResultModel) -> Void
 
     /// - Parameters:
     ///   - saved: the finished, saved capture.

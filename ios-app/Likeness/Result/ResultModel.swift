@@ -21,8 +21,8 @@ final class ResultModel {
     private(set) var mirrorProblem: String?
 
     /// The mirrored face; its geometry changes every frame.
-    @ObservationIgnored let mirrorNode = SCNNode()
-    @ObservationIgnored private let triangles: [UInt32]
+    let mirrorNode = SCNNode()
+    private let triangles: [UInt32]
     @ObservationIgnored private var mirror: MirrorDriver?
 
     init(outcome: ProcessingOutcome) {

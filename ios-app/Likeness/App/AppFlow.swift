@@ -15,8 +15,19 @@ final class AppFlow {
     }
 
     private(set) var screen: Screen = .start
+    /// Whether the screen should stay on: during capture, processing and the
+    /// live mirror the person is not touching the phone.
+    var keepsScreenAwake: Bool {
+        switch screen {
+        case .start:
+            return false
+        case .capture, .processing, .result:
+            return true
+        }
+    }
+
     /// Why reopening the last capture failed, for the start screen.
-    private(set) var startProblem: String?
+    private(set) var startProblem: String? = nil
 
     /// A new guided capture.
     func startCapture() {

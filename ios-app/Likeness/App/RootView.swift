@@ -1,10 +1,20 @@
 import SwiftUI
+import UIKit
 
-/// Shows the screen `AppFlow` has up.
+/// Shows the screen `AppFlow` has up, and keeps the display on while the
+/// person is busy with the phone at arm's length.
 struct RootView: View {
     let flow: AppFlow
 
     var body: some View {
+        screen
+            .onAppear { UIApplication.shared.isIdleTimerDisabled = flow.keepsScreenAwake }
+            .onChange(of: flow.keepsScreenAwake) { _, awake in
+                UIApplication.shared.isIdleTimerDisabled = awake
+            }
+    }
+
+    @ViewBuilder private var screen: some View {
         switch flow.screen {
         case .start:
             StartView(

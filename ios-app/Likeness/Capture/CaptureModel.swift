@@ -22,15 +22,15 @@ final class CaptureModel {
 
     private(set) var stage: Stage = .lookingForFace
     /// The prompt the person is asked to make now.
-    private(set) var prompt: Prompt?
+    private(set) var prompt: Prompt? = nil
     /// Captured / skipped / total, as the core counts them.
-    private(set) var progress: CaptureProgress?
+    private(set) var progress: CaptureProgress? = nil
     /// The most recently captured prompt (what "Retake" takes again).
-    private(set) var lastCaptured: Prompt?
+    private(set) var lastCaptured: Prompt? = nil
     /// The core's quality warnings about the last capture.
     private(set) var captureWarnings: [String] = []
     /// A one-off message: a skipped prompt, a refused retake.
-    private(set) var notice: String?
+    private(set) var notice: String? = nil
     /// Tracking is lost: the core waits until the face is back.
     private(set) var isPaused: Bool = false
     /// Whether `previewNode` shows the current prompt's expression.

@@ -46,14 +46,8 @@ struct CaptureView: View {
         }
         .background(Color.black)
         .animation(Theme.animation, value: model.isPaused)
-        .onAppear {
-            UIApplication.shared.isIdleTimerDisabled = true
-            model.start()
-        }
-        .onDisappear {
-            UIApplication.shared.isIdleTimerDisabled = false
-            model.stop()
-        }
+        .onAppear { model.start() }
+        .onDisappear { model.stop() }
     }
 
     @ViewBuilder private var stageContent: some View {

@@ -18,7 +18,7 @@ final class ResultModel {
     /// The method the core used to personalize.
     let method: String
     /// Why the mirror stopped, if it did.
-    private(set) var mirrorProblem: String?
+    private(set) var mirrorProblem: String? = nil
 
     /// The mirrored face; its geometry changes every frame.
     let mirrorNode = SCNNode()

@@ -28,14 +28,8 @@ struct ResultView: View {
             }
             .padding()
         }
-        .onAppear {
-            UIApplication.shared.isIdleTimerDisabled = true
-            model.startMirror()
-        }
-        .onDisappear {
-            UIApplication.shared.isIdleTimerDisabled = false
-            model.stopMirror()
-        }
+        .onAppear { model.startMirror() }
+        .onDisappear { model.stopMirror() }
     }
 
     private var mirror: some View {

@@ -6,7 +6,9 @@ UniFFI-generated bindings of the core.
 Usage::
 
     python3 tests/python/swift_checks.py --bindings PATH/likeness_ffi.swift [--root ios-app]
-        [--names rust-core/src/arkit/blendshape.rs]
+        [--names rust-core/src/arkit/blendshape.rs] [--verbose]
+
+``--verbose`` also lists every use of the core that was checked.
 
 Prints one line per problem, ``file:line:column: [rule] message``, and exits 1
 if there is any (2 for bad arguments). Needs the PyPI packages pinned in
@@ -426,7 +428,8 @@ def load_bindings(path: Path) -> Bindings:
                 bound = pattern.child_by_field_name("bound_identifier") if pattern else None
                 annotation = next((c for c in member.children if c.type == "type_annotation"), None)
                 if bound is not None:
-                    ffi_type.fields[text(bound)] = type_text(annotation.child_by_field_name("name")) if annotation else None
+                    declared = annotation.child_by_field_name("name") if annotation else None
+                    ffi_type.fields[text(bound)] = type_text(declared)
             elif member.type == "enum_entry":
                 for name_node in named_children(member, "name"):
                     values: list[tuple[str | None, str]] = []
@@ -873,7 +876,8 @@ class FfiChecker:
             if labels is not None:
                 self.check_signature(node, f"{ffi_type.name}.{member}", statics, labels)
             return
-        self.report(node, f"`{ffi_type.name}` has no case or static member `{member}` in the bindings{self.hint(member)}")
+        self.report(node, f"`{ffi_type.name}` has no case or static member `{member}` in the bindings"
+                          f"{self.hint(member)}")
 
     def hint(self, member: str) -> str:
         for name in sorted(self.bindings.all_member_names()):
@@ -909,7 +913,8 @@ class FfiChecker:
         values = ffi_type.cases[case]
         bindings = [c for c in pattern.children if c.type in ("pattern", "wildcard_pattern")]
         if len(bindings) > len(values):
-            self.report(name_node, f"`{ffi_type.name}.{case}` carries {len(values)} value(s), the pattern binds {len(bindings)}")
+            self.report(name_node, f"`{ffi_type.name}.{case}` carries {len(values)} value(s), "
+                                   f"the pattern binds {len(bindings)}")
             return
         for binding, (_, value_type) in zip(bindings, values):
             bound = binding.child_by_field_name("bound_identifier") or next(
@@ -947,8 +952,9 @@ class FfiChecker:
             for name, signatures in ffi_type.methods.items():
                 wanted = {tuple(p.label for p in s.params) for s in signatures}
                 if not wanted & set(implemented.get(name, [])):
+                    hint = self.hint_for_requirement(name, implemented)
                     self.report(specifier, f"`{type_name_of(declaration)}` conforms to `{ffi_type.name}` but does not "
-                                           f"implement {signatures[0].describe(name)}{self.hint_for_requirement(name, implemented)}")
+                                           f"implement {signatures[0].describe(name)}{hint}")
 
     @staticmethod
     def hint_for_requirement(name: str, implemented) -> str:
@@ -962,8 +968,9 @@ class FfiChecker:
                 parent = node.parent
                 if parent is not None and parent.type == "user_type" and parent.children[0] != node:
                     continue  # a nested type such as ARFaceAnchor.BlendShapeLocation
-                if in_attribute(node) or (parent is not None and parent.type in ("class_declaration", "protocol_declaration")
-                                          and parent.child_by_field_name("name") == node):
+                declares = parent is not None and parent.type in ("class_declaration", "protocol_declaration") \
+                    and parent.child_by_field_name("name") == node
+                if declares or in_attribute(node):
                     continue
                 self.check_root_name(node, text(node))
             elif node.type == "simple_identifier":
@@ -1092,7 +1099,8 @@ def check_arkit_names(files: list[SwiftFile], names: list[str]) -> list[Problem]
         problem_at(swift_file.display, node, "arkit-names",
                    f"ARKit blendshape name `{name}` spelled in Swift ({len(found)} distinct names in the app, at most "
                    f"{MAX_ARKIT_NAMES} allowed): take the names from the core's arkitNames()")
-        for name, (swift_file, node) in sorted(found.items(), key=lambda item: (item[1][0].display, item[1][1].start_byte))
+        for name, (swift_file, node) in sorted(found.items(),
+                                               key=lambda item: (item[1][0].display, item[1][1].start_byte))
     ]
 
 

@@ -137,7 +137,8 @@ FFI_MISTAKES = [
     ("unknown static method", "SessionHandle.load(path: path)", "SessionHandle.open(path: path)",
      ["no case or static member `open`"]),
     ("unknown record field", "prompt.isNeutral", "prompt.is_neutral", ["`Prompt` has no member `is_neutral`"]),
-    ("field called as a method", "status = prompt.instruction\n            case", "status = prompt.instruction()\n            case",
+    ("field called as a method", "status = prompt.instruction\n            case",
+     "status = prompt.instruction()\n            case",
      ["is a field, not a method"]),
     ("protocol requirement misspelled", "func isCancelled() -> Bool", "func isCanceled() -> Bool",
      ["does not implement isCancelled()", "found `isCanceled`"]),
@@ -162,8 +163,8 @@ def test_a_wrong_use_of_the_core_fails(tmp_path, what, old, new, words):
 
 
 def test_the_same_mistakes_fail_against_the_contract_bindings(tmp_path):
-    for _, old, new, _ in FFI_MISTAKES:
-        root = mutated(tmp_path / str(abs(hash(new))), DRIVER, old, new)
+    for number, (_, old, new, _) in enumerate(FFI_MISTAKES):
+        root = mutated(tmp_path / str(number), DRIVER, old, new)
         assert any(p.rule == "ffi" for p in run(root, CONTRACT_BINDINGS).problems), new
 
 

@@ -1,0 +1,72 @@
+import SwiftUI
+import UIKit
+
+/// The result: the person's own face shapes moving with them (a mirror), what
+/// the core says about the capture and the avatar, and the files to share.
+///
+/// Why no 3D preview of the avatar itself: the avatar is a GLB (binary glTF),
+/// which SceneKit cannot read, and the app takes no third-party packages (a
+/// glTF loader such as GLTFKit2 would be one). The mirror shows the very shapes
+/// that were implanted into the avatar; the GLB goes out through the share
+/// sheet to Blender, Unity, Reality Composer or any glTF viewer.
+struct ResultView: View {
+    let model: ResultModel
+    /// Back to the start screen.
+    let onStartOver: () -> Void
+
+    var body: some View {
+        ScrollView {
+            VStack(alignment: .leading, spacing: 20) {
+                Text("Your likeness")
+                    .font(.largeTitle.bold())
+                mirror
+                summary
+                ShareSection(files: model.files)
+                Button("Start over", action: onStartOver)
+                    .buttonStyle(.bordered)
+                    .frame(maxWidth: .infinity)
+            }
+            .padding()
+        }
+        .onAppear { model.startMirror() }
+        .onDisappear { model.stopMirror() }
+    }
+
+    private var mirror: some View {
+        VStack(spacing: 8) {
+            MeshView(node: model.mirrorNode, continuous: true)
+                .frame(maxWidth: .infinity)
+                .frame(height: Theme.mirrorHeight)
+                .background(Color(.secondarySystemBackground), in: RoundedRectangle(cornerRadius: Theme.cornerRadius))
+                .accessibilityLabel("Your personalized face, moving with you")
+            if let problem = model.mirrorProblem {
+                Label(problem, systemImage: "exclamationmark.triangle")
+                    .font(.footnote)
+            } else {
+                Text("Your own 52 expressions, driven live by your face. Try a smile.")
+                    .font(.footnote)
+                    .foregroundStyle(.secondary)
+            }
+        }
+    }
+
+    private var summary: some View {
+        VStack(alignment: .leading, spacing: 8) {
+            Text(model.quality.headline)
+                .font(.headline)
+            Text(model.avatarSummary)
+            ForEach(model.quality.warnings + model.avatarWarnings, id: \.self) { warning in
+                Label(warning, systemImage: "exclamationmark.triangle")
+                    .font(.footnote)
+            }
+            if !model.quality.skipped.isEmpty {
+                Text("Skipped: \(model.quality.skipped.joined(separator: ", "))")
+                    .font(.footnote)
+                    .foregroundStyle(.secondary)
+            }
+            Text("Method: \(model.method)")
+                .font(.footnote)
+                .foregroundStyle(.secondary)
+        }
+    }
+}

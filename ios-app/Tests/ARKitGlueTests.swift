@@ -1,0 +1,38 @@
+import ARKit
+import LikenessGlue
+import XCTest
+
+/// ARKit's face data into the core's flat arrays.
+final class ARKitGlueTests: XCTestCase {
+    private let first = ARFaceAnchor.BlendShapeLocation(rawValue: "first_L")
+    private let second = ARFaceAnchor.BlendShapeLocation(rawValue: "second")
+    private let third = ARFaceAnchor.BlendShapeLocation(rawValue: "third_R")
+
+    func testWeightsFollowTheGivenKeyOrder() {
+        let shapes: [ARFaceAnchor.BlendShapeLocation: NSNumber] = [first: 0.25, second: 0.5, third: 1]
+        XCTAssertEqual(ARKitGlue.weights(from: shapes, keys: [third, first, second]), [1, 0.25, 0.5])
+    }
+
+    func testWeightsAreNeverMadeUpForAMissingKey() {
+        let shapes: [ARFaceAnchor.BlendShapeLocation: NSNumber] = [first: 0.25]
+        XCTAssertNil(ARKitGlue.weights(from: shapes, keys: [first, second]))
+    }
+
+    func testWeightsByNamePairTheDictionarysOwnKeys() throws {
+        let shapes: [ARFaceAnchor.BlendShapeLocation: NSNumber] = [first: 0.25, second: 0.5, third: 1]
+        let weights = try ARKitGlue.weights(from: shapes, names: ["thirdRight", "second", "firstLeft"])
+        XCTAssertEqual(weights, [1, 0.5, 0.25])
+    }
+
+    func testVerticesAreFlattenedXYZ() {
+        let vertices: [SIMD3<Float>] = [SIMD3(1, 2, 3), SIMD3(-4, 5, -6)]
+        XCTAssertEqual(ARKitGlue.flatten(vertices), [1, 2, 3, -4, 5, -6])
+        XCTAssertEqual(ARKitGlue.flatten([]), [])
+    }
+
+    func testTriangleIndicesBecomeUnsigned32Bit() {
+        XCTAssertEqual(ARKitGlue.triangleIndices([0, 1, 1219, Int16.max]), [0, 1, 1219, 32767])
+        // The bit pattern is kept: an index past Int16.max is not negative.
+        XCTAssertEqual(ARKitGlue.triangleIndices([Int16(bitPattern: 40000)]), [40000])
+    }
+}

@@ -4,46 +4,13 @@
 //! stay closed, in any single shape (committed subjects, default avatar).
 
 use glam::{DVec3, Vec3};
-use likeness::avatar::partial_transfer::{Implanted, implant, lid_contacts};
-use likeness::avatar::registration::{FaceRegistration, find_face};
-use likeness::avatar::retargeting::retarget;
+mod implanted_subject;
+
+use implanted_subject::{Subject, implanted_subject as subject};
+use likeness::avatar::partial_transfer::lid_contacts;
 use likeness::geometry::mesh_boundary::{EyeHole, boundary_loops};
-use likeness::personalize::{Method, personalize};
-use likeness::{Blendshape, Blendshapes, Session};
+use likeness::{Blendshape, Session};
 use likeness_sim::default_avatar::{DefaultAvatar, default_avatar};
-
-/// A committed subject implanted into the default avatar.
-struct Subject {
-    session: Session,
-    person: Blendshapes,
-    found: FaceRegistration,
-    implanted: Implanted,
-}
-
-fn subject(n: u64) -> Subject {
-    let session = likeness_tests::committed::read(n).expect("reads");
-    let person = personalize(&session, Method::DEFAULT)
-        .expect("personalizes")
-        .shapes;
-    let avatar = &default_avatar().avatar;
-    let rig = session.template.blendshapes().expect("a template");
-    let found = find_face(avatar, &session.topology, &rig).expect("a face");
-    let retargeting = retarget(avatar, &found, &person).expect("solves");
-    let implanted = implant(
-        avatar,
-        &found,
-        &retargeting,
-        &person,
-        session.topology.triangles(),
-    )
-    .expect("implants");
-    Subject {
-        session,
-        person,
-        found,
-        implanted,
-    }
-}
 
 /// The mask's mouth rim: the lowest of its three inner boundary loops,
 /// split at its leftmost and rightmost vertices into the upper and the

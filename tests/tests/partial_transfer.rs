@@ -3,6 +3,8 @@
 //! shapes (its face is the template's surface), and a person's shapes meet
 //! the rest of the head without a seam.
 
+mod implanted_subject;
+
 use glam::Vec3;
 use likeness::avatar::partial_transfer::{Implanted, implant};
 use likeness::avatar::registration::{FaceRegistration, find_face};
@@ -22,27 +24,11 @@ fn rig() -> Blendshapes {
 /// face and continued past it: implanting the template must give them back
 /// (measured: within 0.035 mm on every shape but the jaw's, jawOpen within
 /// 0.22 mm of its 40 mm and mouthClose 0.31 of 20, at the mouth corners).
-/// Committed subject `n`, personalized with the default method and
-/// implanted into the default avatar: the face found and the result.
+/// Committed subject `n` implanted into the default avatar: the face found
+/// and the result.
 fn implanted_subject(n: u64) -> (FaceRegistration, Implanted) {
-    use likeness::personalize::{Method, personalize};
-    let session = likeness::session::file::read(likeness_tests::committed::path(n)).expect("reads");
-    let person = personalize(&session, Method::DEFAULT)
-        .expect("personalizes")
-        .shapes;
-    let avatar = &default_avatar().avatar;
-    let rig = session.template.blendshapes().expect("a template");
-    let found = find_face(avatar, &session.topology, &rig).expect("a face");
-    let retargeting = retarget(avatar, &found, &person).expect("solves");
-    let implanted = implant(
-        avatar,
-        &found,
-        &retargeting,
-        &person,
-        session.topology.triangles(),
-    )
-    .expect("implants");
-    (found, implanted)
+    let s = implanted_subject::implanted_subject(n);
+    (s.found, s.implanted)
 }
 
 #[test]
@@ -624,17 +610,11 @@ fn a_closed_eye_shows_no_eyeball_from_the_front() {
 #[test]
 fn vertices_outside_both_regions_stay_exactly_where_they_were() {
     use likeness::avatar::partial_transfer::{BLEND_MARGIN_MM, adjacent_step::within};
-    let (found, implanted) = implanted_subject(1);
+    let s = implanted_subject::implanted_subject(1);
+    let (found, implanted) = (&s.found, &s.implanted);
     let built = default_avatar();
     let avatar = &built.avatar;
-    let session = likeness::session::file::read(likeness_tests::committed::path(1)).expect("reads");
-    let person =
-        likeness::personalize::personalize(&session, likeness::personalize::Method::DEFAULT)
-            .expect("personalizes")
-            .shapes;
-    let retargeted = retarget(avatar, &found, &person)
-        .expect("solves")
-        .displacements(avatar);
+    let retargeted = s.retargeting.displacements(avatar);
     let positions: Vec<glam::DVec3> = avatar.positions().iter().map(|p| p.as_dvec3()).collect();
     let offsets = avatar.vertex_offsets();
     let triangles: Vec<[u32; 3]> = found

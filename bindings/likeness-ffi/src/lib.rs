@@ -2,8 +2,8 @@
 //!
 //! This crate decides nothing: it converts flat arrays into meshes and
 //! weights, the core's errors into [`LikenessError`], and calls the core
-//! (`likeness`). The exported surface is the contract the app is written
-//! against, with the changes `bindings/README.md` lists.
+//! (`likeness`). `bindings/README.md` lists the surface, what in the core
+//! each call reaches, and what the Swift side should know.
 //!
 //! | what | file |
 //! |---|---|
@@ -13,10 +13,12 @@
 //! | the capture the app drives frame by frame | [`capture`] |
 //! | a recorded session: load, save, summary, personalize | [`session`] |
 //! | the person's face: pose, mask, avatar | [`personalized`] |
+//! | the avatar posed by live weights (the result's preview) | [`avatar_preview`] |
 //! | the foreign progress listener | [`progress`] |
 
 uniffi::setup_scaffolding!();
 
+pub mod avatar_preview;
 pub mod capture;
 pub mod error;
 pub mod personalized;
@@ -24,6 +26,7 @@ pub mod progress;
 pub mod session;
 pub mod types;
 
+pub use avatar_preview::{AvatarPreview, PreviewFocus};
 pub use capture::{CaptureEvent, CaptureSession};
 pub use error::LikenessError;
 pub use personalized::PersonalizedFace;
@@ -50,7 +53,7 @@ pub fn arkit_names() -> Vec<String> {
 /// ARKit's raw keys for the same 52 shapes, in the same order: the string
 /// values of `ARFaceAnchor.BlendShapeLocation` (`eyeBlink_L`, `jawOpen`),
 /// which `ARFaceAnchor.blendShapes` and `ARFaceGeometry(blendShapes:)` are
-/// keyed by (an addition to the contract; see `bindings/README.md`).
+/// keyed by.
 #[uniffi::export]
 pub fn arkit_keys() -> Vec<String> {
     Blendshape::ALL.iter().map(|b| b.arkit_key()).collect()

@@ -69,19 +69,18 @@ impl SessionHandle {
         Ok(Arc::new(face))
     }
 
-    /// The generic template the session was recorded against (an addition
-    /// to the contract: replaying a stored session through a new capture).
+    /// The generic template the session was recorded against (for
+    /// replaying a stored session through a new capture).
     pub fn template(&self) -> FaceTemplate {
         FaceTemplate::of(&self.session)
     }
 
-    /// Frames in the recorded stream (an addition to the contract).
+    /// Frames in the recorded stream.
     pub fn recorded_frame_count(&self) -> u32 {
         count(self.session.frames.len())
     }
 
-    /// The recorded stream's frame at `index`, as `push_frame` takes it (an
-    /// addition to the contract).
+    /// The recorded stream's frame at `index`, as `push_frame` takes it.
     pub fn recorded_frame(&self, index: u32) -> Result<RecordedFrame, LikenessError> {
         self.session
             .frames

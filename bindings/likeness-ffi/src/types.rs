@@ -89,7 +89,7 @@ pub struct AvatarResult {
 }
 
 /// One frame of a recorded stream, as `CaptureSession.push_frame` takes it
-/// (an addition to the contract; see `bindings/README.md`).
+///.
 #[derive(Clone, Debug, PartialEq, uniffi::Record)]
 pub struct RecordedFrame {
     /// Seconds since the start of recording.
@@ -103,8 +103,7 @@ pub struct RecordedFrame {
     pub tracked: bool,
 }
 
-/// One step of a capture under way, for a review screen (an addition to
-/// the contract; see `bindings/README.md`).
+/// One step of a capture under way, for a review screen.
 #[derive(Clone, Debug, PartialEq, uniffi::Record)]
 pub struct CaptureInfo {
     /// The step.
@@ -132,6 +131,23 @@ pub(crate) fn points(field: &str, flat: &[f32]) -> Result<Vec<Vec3>, LikenessErr
     Ok(flat
         .chunks_exact(3)
         .map(|p| Vec3::new(p[0], p[1], p[2]))
+        .collect())
+}
+
+/// Points from little-endian 32-bit floats, xyz after xyz; `field` names
+/// them in the error.
+pub(crate) fn packed_points(field: &str, bytes: &[u8]) -> Result<Vec<Vec3>, LikenessError> {
+    const POINT: usize = 3 * size_of::<f32>();
+    if bytes.len() % POINT != 0 {
+        return Err(LikenessError::invalid(format!(
+            "{field}: {} bytes are not a whole number of xyz points of three little-endian 32-bit floats",
+            bytes.len()
+        )));
+    }
+    let float = |b: &[u8]| f32::from_le_bytes([b[0], b[1], b[2], b[3]]);
+    Ok(bytes
+        .chunks_exact(POINT)
+        .map(|p| Vec3::new(float(&p[0..4]), float(&p[4..8]), float(&p[8..12])))
         .collect())
 }
 

@@ -12,7 +12,9 @@
 //! | §3.3 end to end | the person's avatar as GLB bytes, steps skipped said, progress and cancel | [`personal_avatar`] |
 //! | §4.2, Fig. 7 and 8 | manual, automatic and personalized animation against the person's expression on the face region | [`likeness_check`] |
 //! | | what was made, in a few sentences for the app | [`avatar_summary`] |
+//! | Eq. (1) on the avatar | the avatar posed by ARKit weights (the app's live preview) | [`avatar_pose`] |
 
+pub mod avatar_pose;
 pub mod avatar_summary;
 pub mod glb;
 pub mod likeness_check;

@@ -9,6 +9,7 @@ and the library) and LIKENESS_CLI (the built command).
 import importlib
 import json
 import os
+import struct
 import subprocess
 import sys
 import time
@@ -67,14 +68,20 @@ class Replay:
     current_prompt: object = None
 
 
-def replay(ffi, handle):
-    """Pushes every frame of `handle`'s recorded stream, one call each."""
+def replay(ffi, handle, packed=False):
+    """Pushes every frame of `handle`'s recorded stream, one call each:
+    `push_frame`, or `push_frame_packed` with the mesh packed as
+    little-endian floats (the packing timed with the call)."""
     capture = ffi.CaptureSession(handle.template(), "replay")
     result = Replay(capture, list(capture.start()))
     for i in range(handle.recorded_frame_count()):
         f = handle.recorded_frame(i)
         started = time.perf_counter()
-        events = capture.push_frame(f.timestamp, f.weights, f.vertices, f.tracked)
+        if packed:
+            vertices = struct.pack(f"<{len(f.vertices)}f", *f.vertices)
+            events = capture.push_frame_packed(f.timestamp, f.weights, vertices, f.tracked)
+        else:
+            events = capture.push_frame(f.timestamp, f.weights, f.vertices, f.tracked)
         result.push_seconds.append(time.perf_counter() - started)
         result.with_mesh.append(bool(f.vertices))
         result.events.extend(events)
@@ -109,6 +116,11 @@ def full_stream(cli, tmp_path_factory):
 @pytest.fixture(scope="session")
 def full_replay(ffi, full_stream):
     return replay(ffi, ffi.SessionHandle.load(str(full_stream)))
+
+
+@pytest.fixture(scope="session")
+def full_replay_packed(ffi, full_stream):
+    return replay(ffi, ffi.SessionHandle.load(str(full_stream)), packed=True)
 
 
 @pytest.fixture(scope="session")

@@ -1,6 +1,6 @@
-"""The cost of push_frame with a 1,220-vertex mesh, called from Python
-through the FFI: measured on every frame of the full-mesh replay (8,461
-frames), printed, never asserted."""
+"""The cost of push_frame and push_frame_packed with a 1,220-vertex mesh,
+called from Python through the FFI: measured on every frame of the
+full-mesh replay (8,461 frames), printed, never asserted."""
 
 import statistics
 import time
@@ -27,8 +27,9 @@ def lowering_seconds(ffi, vertices, repeat):
     return seconds
 
 
-def test_push_frame_cost(ffi, full_replay, subject_1_replay, subject_1, capsys):
+def test_push_frame_cost(ffi, full_replay, full_replay_packed, subject_1_replay, subject_1, capsys):
     with_mesh = [s for s, m in zip(full_replay.push_seconds, full_replay.with_mesh) if m]
+    packed = [s for s, m in zip(full_replay_packed.push_seconds, full_replay_packed.with_mesh) if m]
     assert len(with_mesh) >= 1000
     assert len(subject_1.template().neutral) == 1220 * 3
     without = [s for s, m in zip(subject_1_replay.push_seconds, subject_1_replay.with_mesh) if not m]
@@ -40,6 +41,9 @@ def test_push_frame_cost(ffi, full_replay, subject_1_replay, subject_1, capsys):
             f"p99 {percentile(with_mesh, 0.99) * 1e3:.3f} ms; "
             f"of which Python lowering the mesh: median "
             f"{statistics.median(lowering) * 1e3:.3f} ms; "
+            f"push_frame_packed (struct.pack included): median "
+            f"{statistics.median(packed) * 1e3:.3f} ms, "
+            f"p99 {percentile(packed, 0.99) * 1e3:.3f} ms; "
             f"push_frame without a mesh ({len(without)} frames): median "
             f"{statistics.median(without) * 1e3:.3f} ms"
         )

@@ -76,6 +76,15 @@ def test_frames_with_bad_weights_or_meshes_are_refused_by_field(ffi, capture, te
         with pytest.raises(ffi.LikenessError.InvalidInput) as error:
             capture.push_frame(0.0, weights, vertices, True)
         assert message in error.value.message, error.value.message
+    packed = struct.pack(f"<{len(template.neutral)}f", *template.neutral)
+    for vertices, message in [
+        (packed[:-1], "vertices: 14639 bytes are not a whole number"),
+        (packed[:-12], "frame 0: 1219 vertices, but the topology has 1220"),
+        (packed[:-4] + struct.pack("<f", float("nan")), "frame 0: vertex 1219"),
+    ]:
+        with pytest.raises(ffi.LikenessError.InvalidInput) as error:
+            capture.push_frame_packed(0.0, ZEROS, vertices, True)
+        assert message in error.value.message, error.value.message
     # Nothing was recorded: the next good frame is frame 0.
     capture.push_frame(0.0, ZEROS, template.neutral, True)
     with pytest.raises(ffi.LikenessError.InvalidInput, match="frame 1: 3 vertices"):
@@ -186,6 +195,27 @@ def test_avatars_without_morph_targets_or_not_gltf_are_avatar_errors(ffi, subjec
         with pytest.raises(ffi.LikenessError.Avatar) as error:
             face.avatar(glb, None)
         assert message in error.value.message, error.value.message
+
+
+def test_an_avatar_preview_of_a_bad_file_is_an_avatar_error(ffi):
+    for glb, message in [
+        (b"", "not glTF"),
+        (b"glTF\x02\x00\x00\x00", "truncated GLB"),
+        (b"\x00" * 64, "not glTF"),
+    ]:
+        with pytest.raises(ffi.LikenessError.Avatar) as error:
+            ffi.AvatarPreview(glb)
+        assert message in error.value.message, error.value.message
+
+
+def test_an_avatar_without_targets_previews_still_and_takes_52_weights(ffi):
+    preview = ffi.AvatarPreview(glb_without_morph_targets())
+    assert preview.shapes_found() == 0
+    assert preview.pose(ZEROS) == preview.pose([1.0] * 52)
+    with pytest.raises(ffi.LikenessError.InvalidInput, match="weights: 51 values"):
+        preview.pose(ZEROS[:51])
+    with pytest.raises(ffi.LikenessError.InvalidInput, match="is NaN"):
+        preview.pose([float("nan")] * 52)
 
 
 def test_pose_takes_52_finite_weights(ffi, subject_1):

@@ -117,3 +117,43 @@ def test_the_captured_sessions_avatar_is_the_commands_byte_for_byte(ffi, cli, ca
     assert f"{report['face_vertices']} vertices" in result.summary
     retarget = json.loads(result.retarget_map_json)
     assert retarget["arkit"] == ffi.arkit_names()
+
+
+def test_the_avatar_preview_poses_the_written_avatar_by_live_weights(ffi, subject_1):
+    result = subject_1.personalize(None, None).avatar(None, None)
+    preview = ffi.AvatarPreview(result.glb)
+    assert preview.shapes_found() == 52
+    rest = preview.pose([0.0] * 52)
+    triangles = preview.triangles()
+    assert len(rest) % 3 == 0 and len(triangles) % 3 == 0
+    assert max(triangles) < len(rest) // 3
+    names = ffi.arkit_names()
+
+    def moved(weight, name):
+        w = [0.0] * 52
+        w[names.index(name)] = weight
+        posed = preview.pose(w)
+        return [p - r for p, r in zip(posed, rest)]
+
+    jaw = moved(1.0, "jawOpen")
+    # The default avatar is in metres: the chin drops by centimetres, down (-y).
+    drop = min(jaw[1::3])
+    assert -0.06 < drop < -0.01
+    # Poses are linear in the weights, as an engine plays morph targets.
+    half = moved(0.5, "jawOpen")
+    assert max(abs(h - 0.5 * j) for h, j in zip(half, jaw)) < 1e-6
+    # A blink moves far less than the jaw, most at its own eye: the left and
+    # right blinks peak on opposite sides of the face.
+    def peak_x(d):
+        motion = [d[i] ** 2 + d[i + 1] ** 2 + d[i + 2] ** 2 for i in range(0, len(d), 3)]
+        return rest[3 * motion.index(max(motion))]
+
+    left, right = moved(1.0, "eyeBlinkLeft"), moved(1.0, "eyeBlinkRight")
+    assert 0 < max(map(abs, left)) < max(map(abs, jaw)) / 2
+    assert peak_x(left) * peak_x(right) < 0
+    # The focus is the face: on the default avatar (metres, face at the
+    # origin as ARKit's mask), a box of head size around what the shapes move.
+    focus = preview.focus()
+    assert 0.05 < focus.radius < 0.25
+    xs, ys = rest[0::3], rest[1::3]
+    assert min(xs) <= focus.x <= max(xs) and min(ys) <= focus.y <= max(ys)

@@ -84,6 +84,12 @@ def test_a_stream_with_every_mesh_replays_to_the_commands_captures(
     assert all(full_replay.with_mesh)
 
 
+def test_packed_meshes_replay_to_the_same_captures_and_events(full_replay, full_replay_packed):
+    assert full_replay_packed.events == full_replay.events
+    assert full_replay_packed.captures == full_replay.captures
+    assert full_replay_packed.progress == full_replay.progress
+
+
 def test_the_events_carry_prompts_the_app_can_show(ffi, full_replay):
     first = full_replay.events[0]
     assert first.is_prompt_started() and first.prompt.is_neutral

@@ -18,16 +18,22 @@ final class ARKitGlueTests: XCTestCase {
         XCTAssertNil(ARKitGlue.weights(from: shapes, keys: [first, second]))
     }
 
-    func testWeightsByNamePairTheDictionarysOwnKeys() throws {
-        let shapes: [ARFaceAnchor.BlendShapeLocation: NSNumber] = [first: 0.25, second: 0.5, third: 1]
-        let weights = try ARKitGlue.weights(from: shapes, names: ["thirdRight", "second", "firstLeft"])
-        XCTAssertEqual(weights, [1, 0.5, 0.25])
-    }
-
     func testVerticesAreFlattenedXYZ() {
         let vertices: [SIMD3<Float>] = [SIMD3(1, 2, 3), SIMD3(-4, 5, -6)]
         XCTAssertEqual(ARKitGlue.flatten(vertices), [1, 2, 3, -4, 5, -6])
         XCTAssertEqual(ARKitGlue.flatten([]), [])
+    }
+
+    func testPackedVerticesAreLittleEndianFloatsXYZ() {
+        let packed = ARKitGlue.packed([SIMD3(1, 2, 3), SIMD3(-4, 5, -6)])
+        XCTAssertEqual(packed.count, 24)
+        // 1.0 is 0x3F800000, least significant byte first.
+        XCTAssertEqual(Array(packed.prefix(4)), [0x00, 0x00, 0x80, 0x3F])
+        let floats = stride(from: 0, to: packed.count, by: 4).map { at in
+            Float(bitPattern: packed[at..<at + 4].reversed().reduce(0) { $0 << 8 | UInt32($1) })
+        }
+        XCTAssertEqual(floats, [1, 2, 3, -4, 5, -6])
+        XCTAssertEqual(ARKitGlue.packed([]).count, 0)
     }
 
     func testTriangleIndicesBecomeUnsigned32Bit() {

@@ -2,44 +2,43 @@ import ARKit
 import LikenessGlue
 import XCTest
 
-/// Pairing the core's names with ARKit's dictionary keys.
+/// The core's raw keys as ARKit's dictionary keys.
 final class BlendShapeKeysTests: XCTestCase {
     private func key(_ rawValue: String) -> ARFaceAnchor.BlendShapeLocation {
         ARFaceAnchor.BlendShapeLocation(rawValue: rawValue)
     }
 
-    func testSpellingReadsSideSuffixesAndIgnoresCase() {
-        XCTAssertEqual(BlendShapeKeys.spelling(of: "fooBar_L"), "foobarleft")
-        XCTAssertEqual(BlendShapeKeys.spelling(of: "fooBarRight"), "foobarright")
-        XCTAssertEqual(BlendShapeKeys.spelling(of: "foo_bar_R"), "foobarright")
-        XCTAssertEqual(BlendShapeKeys.spelling(of: "FooBar"), "foobar")
-    }
-
-    func testMatchPairsRawValuesWithNamesInTheCoreOrder() throws {
+    func testRawKeysBecomeKeysInTheCoreOrder() throws {
         let available = [key("eyeBlink_L"), key("jawOpen"), key("mouthLeft")]
-        let matched = try BlendShapeKeys.match(names: ["jawOpen", "mouthLeft", "eyeBlinkLeft"], available: available)
+        let matched = try BlendShapeKeys.match(
+            names: ["jawOpen", "mouthLeft", "eyeBlinkLeft"],
+            rawKeys: ["jawOpen", "mouthLeft", "eyeBlink_L"],
+            available: available)
         XCTAssertEqual(matched.keys.map(\.rawValue), ["jawOpen", "mouthLeft", "eyeBlink_L"])
     }
 
-    func testARKitsOwnConstantMatchesTheCoreSpelling() throws {
-        // The reason the app pairs by spelling: ARKit's raw value is not the name.
-        let matched = try BlendShapeKeys.match(names: ["eyeBlinkLeft"], available: [.eyeBlinkLeft])
+    func testARKitsOwnConstantIsTheRawKey() throws {
+        // Why the core gives raw keys: ARKit's raw value is not the name.
+        let matched = try BlendShapeKeys.match(
+            names: ["eyeBlinkLeft"], rawKeys: ["eyeBlink_L"], available: [.eyeBlinkLeft])
         XCTAssertEqual(matched.keys, [.eyeBlinkLeft])
     }
 
-    func testMissingNamesAreReportedTogether() {
+    func testKeysARKitDoesNotReportAreNamedTogether() {
         XCTAssertThrowsError(
-            try BlendShapeKeys.match(names: ["fooBarLeft", "bazQux"], available: [key("jawOpen")])
+            try BlendShapeKeys.match(
+                names: ["fooBarLeft", "bazQux"], rawKeys: ["fooBar_L", "bazQux"],
+                available: [key("jawOpen")])
         ) { error in
             XCTAssertEqual(error as? BlendShapeKeys.MatchError, .missing(["fooBarLeft", "bazQux"]))
         }
     }
 
-    func testTwoKeysSpellingOneNameAreAnError() {
+    func testNamesAndKeysOfDifferentLengthsAreAnError() {
         XCTAssertThrowsError(
-            try BlendShapeKeys.match(names: ["fooBarLeft"], available: [key("fooBar_L"), key("fooBarLeft")])
+            try BlendShapeKeys.match(names: ["a", "b"], rawKeys: ["a"], available: [key("a")])
         ) { error in
-            XCTAssertEqual(error as? BlendShapeKeys.MatchError, .ambiguous("fooBarLeft"))
+            XCTAssertEqual(error as? BlendShapeKeys.MatchError, .mismatched(names: 2, keys: 1))
         }
     }
 

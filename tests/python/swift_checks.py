@@ -126,7 +126,7 @@ APPLE_NAMES = frozenset(
     ARTrackable
 
     SCNCamera SCNGeometry SCNGeometryElement SCNGeometrySource SCNLight
-    SCNMaterial SCNNode SCNScene SCNSceneRenderer SCNTransaction SCNVector3
+    SCNMaterial SCNNode SCNScene SCNSceneRenderer SCNTransaction SCNMatrix4MakeTranslation SCNVector3
     SCNView SceneKit
 
     CGFloat CGPoint CGRect CGSize UIActivityViewController UIApplication UIColor

@@ -1,7 +1,7 @@
 """Tests of swift_checks.py (pytest): the fixtures under fixtures/ are a small
 app that uses the core correctly, a file with a syntax error, a small bindings
-file in UniFFI's style, and the bindings UniFFI 0.32 generates for the FFI
-contract. Each rule is shown to pass on correct code and to fail, with file,
+file in UniFFI's style, and a copy of the bindings UniFFI 0.32 generates for
+the FFI (tests/run checks that the copy is what the library generates now). Each rule is shown to pass on correct code and to fail, with file,
 line and column, on a deliberate mistake."""
 from __future__ import annotations
 
@@ -18,7 +18,7 @@ import swift_checks  # noqa: E402
 
 FIXTURES = HERE / "fixtures"
 SMALL_BINDINGS = FIXTURES / "bindings_small.swift"
-CONTRACT_BINDINGS = FIXTURES / "likeness_ffi_contract.swift"
+GENERATED_BINDINGS = FIXTURES / "likeness_ffi_generated.swift"
 GOOD_APP = FIXTURES / "app_good"
 DRIVER = Path("Likeness/Capture/Driver.swift")
 NAMES = swift_checks.DEFAULT_NAMES_FILE
@@ -57,8 +57,8 @@ def test_the_good_fixture_app_passes_every_rule():
         assert expected in uses
 
 
-def test_the_app_passes_against_the_contracts_generated_bindings():
-    report = run(swift_checks.REPO / "ios-app", CONTRACT_BINDINGS)
+def test_the_app_passes_against_the_generated_bindings():
+    report = run(swift_checks.REPO / "ios-app", GENERATED_BINDINGS)
     assert report.problems == [], "\n".join(map(str, report.problems))
     assert len(report.uses) > 40
 
@@ -77,14 +77,16 @@ def test_small_bindings_surface_leaves_uniffi_plumbing_out():
     assert bindings.types["ProgressListener"].kind == "protocol"
 
 
-def test_contract_bindings_hold_the_whole_contract():
-    bindings = swift_checks.load_bindings(CONTRACT_BINDINGS)
-    assert set(bindings.functions) == {"arkitNames", "coreVersion", "methods", "defaultMethod"}
+def test_the_generated_bindings_hold_the_whole_surface():
+    bindings = swift_checks.load_bindings(GENERATED_BINDINGS)
+    assert set(bindings.functions) == {"arkitNames", "arkitKeys", "coreVersion", "methods", "defaultMethod"}
     methods = {name: set(t.methods) for name, t in bindings.types.items()}
-    assert methods["CaptureSession"] == {"start", "pushFrame", "skip", "retake", "progress", "currentPrompt",
-                                         "isFinished", "promptPreview", "finish"}
-    assert methods["SessionHandle"] == {"load", "save", "qualitySummary", "personalize"}
+    assert methods["CaptureSession"] == {"start", "pushFrame", "pushFramePacked", "skip", "retake", "progress",
+                                         "currentPrompt", "isFinished", "promptPreview", "captures", "finish"}
+    assert methods["SessionHandle"] == {"load", "save", "qualitySummary", "personalize", "template",
+                                        "recordedFrameCount", "recordedFrame"}
     assert methods["PersonalizedFace"] == {"method", "triangles", "pose", "maskGlb", "avatar"}
+    assert methods["AvatarPreview"] == {"triangles", "focus", "shapesFound", "pose"}
     assert methods["ProgressListener"] == {"onProgress", "isCancelled"}
     assert set(bindings.types["CaptureEvent"].cases) == {"promptStarted", "captured", "skipped", "trackingLost",
                                                          "trackingResumed", "finished"}
@@ -126,7 +128,7 @@ FFI_MISTAKES = [
      ["no case `trackingLoss`"]),
     ("too many bound values", "case let .captured(prompt, warnings):", "case let .captured(prompt, warnings, x):",
      ["carries 2 value(s)"]),
-    ("error case in the contract's spelling", "case .Cancelled:", "case .cancelled:", ["did you mean `Cancelled`"]),
+    ("error case in lowerCamelCase", "case .Cancelled:", "case .cancelled:", ["did you mean `Cancelled`"]),
     ("error case in catch", "catch LikenessError.Cancelled", "catch LikenessError.cancelled",
      ["no case or static member `cancelled`"]),
     ("misspelled free function", "arkitNames()", "arkitName()", ["unknown function `arkitName`"]),
@@ -162,10 +164,10 @@ def test_a_wrong_use_of_the_core_fails(tmp_path, what, old, new, words):
     assert ffi[0].line == line_of(root, DRIVER, needle)
 
 
-def test_the_same_mistakes_fail_against_the_contract_bindings(tmp_path):
+def test_the_same_mistakes_fail_against_the_generated_bindings(tmp_path):
     for number, (_, old, new, _) in enumerate(FFI_MISTAKES):
         root = mutated(tmp_path / str(number), DRIVER, old, new)
-        assert any(p.rule == "ffi" for p in run(root, CONTRACT_BINDINGS).problems), new
+        assert any(p.rule == "ffi" for p in run(root, GENERATED_BINDINGS).problems), new
 
 
 def test_apple_names_must_be_known(tmp_path):

@@ -12,6 +12,10 @@ enum Theme {
     static let previewSide: CGFloat = 120
     /// Height of the live mirror on the result screen.
     static let mirrorHeight: CGFloat = 320
+    /// The radius (metres) an avatar's face is scaled to in the result's
+    /// preview: about that of ARKit's face mask, which the mirror shows at
+    /// its own size.
+    static let faceRadius: Float = 0.1
     /// Corner radius of cards.
     static let cornerRadius: CGFloat = 16
     /// How long the capture screen's transitions take.

@@ -37,14 +37,14 @@ final class CaptureDriver: NSObject, ARSessionDelegate, @unchecked Sendable {
     private let reader: FaceFrameReader
     private var core: CaptureSession?
     private var lastWeights: [Float] = []
-    private var lastVertices: [Float] = []
+    private var lastVertices = Data()
     private var lastTimestamp = -TimeInterval.infinity
     private var stopped = false
     private let deliver: @MainActor (Update) -> Void
 
     /// - Parameter deliver: receives every update, on the main actor, in order.
     init(deliver: @escaping @MainActor (Update) -> Void) {
-        reader = FaceFrameReader(names: arkitNames())
+        reader = FaceFrameReader(names: arkitNames(), rawKeys: arkitKeys())
         self.deliver = deliver
         super.init()
         arSession.delegate = self
@@ -92,7 +92,7 @@ final class CaptureDriver: NSObject, ARSessionDelegate, @unchecked Sendable {
                 try startCore(with: anchor)
             }
             lastWeights = try reader.weights(of: anchor)
-            lastVertices = reader.vertices(of: anchor)
+            lastVertices = reader.packedVertices(of: anchor)
         } catch {
             fail(error)
             return
@@ -132,7 +132,7 @@ final class CaptureDriver: NSObject, ARSessionDelegate, @unchecked Sendable {
         let weights = lastWeights
         let vertices = lastVertices
         step(refusalIsFatal: true) { (core: CaptureSession) in
-            try core.pushFrame(timestamp: timestamp, weights: weights, vertices: vertices, tracked: tracked)
+            try core.pushFramePacked(timestamp: timestamp, weights: weights, vertices: vertices, tracked: tracked)
         }
     }
 

@@ -2,26 +2,32 @@ import ARKit
 import LikenessGlue
 
 /// Reads an `ARFaceAnchor` into what the core takes: the 52 weights in the
-/// core's order and the face mesh's vertices, flattened.
+/// core's order and the face mesh's vertices, packed.
 ///
-/// Pairs ARKit's dictionary keys with the core's names (`arkitNames()`) on the
-/// first anchor it reads, and keeps the pairing. Used on `CoreQueue` only.
+/// Takes ARKit's keys from the core (`arkitKeys()`), checks them against the
+/// first anchor it reads, and keeps them. Used on `CoreQueue` only.
 final class FaceFrameReader {
     /// The core's blendshape names, in its order.
     let names: [String]
+    /// ARKit's raw key for each name, in the same order.
+    private let rawKeys: [String]
     private var keys: BlendShapeKeys?
 
-    /// - Parameter names: `arkitNames()`.
-    init(names: [String]) {
+    /// - Parameters:
+    ///   - names: `arkitNames()`.
+    ///   - rawKeys: `arkitKeys()`.
+    init(names: [String], rawKeys: [String]) {
         self.names = names
+        self.rawKeys = rawKeys
     }
 
-    /// ARKit's key for each name, paired on the first anchor.
+    /// ARKit's key for each name, checked on the first anchor.
     func blendShapeKeys(for anchor: ARFaceAnchor) throws -> BlendShapeKeys {
         if let keys {
             return keys
         }
-        let matched = try BlendShapeKeys.match(names: names, available: Array(anchor.blendShapes.keys))
+        let matched = try BlendShapeKeys.match(
+            names: names, rawKeys: rawKeys, available: Array(anchor.blendShapes.keys))
         keys = matched
         return matched
     }
@@ -39,8 +45,9 @@ final class FaceFrameReader {
         throw BlendShapeKeys.MatchError.missing(missing)
     }
 
-    /// The anchor's face mesh, xyz flattened, in face-anchor coordinates.
-    func vertices(of anchor: ARFaceAnchor) -> [Float] {
-        ARKitGlue.flatten(anchor.geometry.vertices)
+    /// The anchor's face mesh, packed as `CaptureSession.pushFramePacked`
+    /// takes it, in face-anchor coordinates.
+    func packedVertices(of anchor: ARFaceAnchor) -> Data {
+        ARKitGlue.packed(anchor.geometry.vertices)
     }
 }

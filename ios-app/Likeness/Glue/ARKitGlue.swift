@@ -21,16 +21,6 @@ public enum ARKitGlue {
         return weights
     }
 
-    /// The weights of `blendShapes` in the order of the core's `names`:
-    /// pairs the names with the dictionary's own keys first.
-    public static func weights(
-        from blendShapes: [ARFaceAnchor.BlendShapeLocation: NSNumber],
-        names: [String]
-    ) throws -> [Float]? {
-        let keys = try BlendShapeKeys.match(names: names, available: Array(blendShapes.keys))
-        return weights(from: blendShapes, keys: keys.keys)
-    }
-
     /// Vertex positions as `x0, y0, z0, x1, y1, z1, …`.
     public static func flatten(_ vertices: [SIMD3<Float>]) -> [Float] {
         var flat: [Float] = []
@@ -41,6 +31,23 @@ public enum ARKitGlue {
             flat.append(vertex.z)
         }
         return flat
+    }
+
+    /// Vertex positions as little-endian 32-bit floats, xyz after xyz (12
+    /// bytes a vertex): what `CaptureSession.pushFramePacked` takes, one
+    /// copy across the FFI instead of one write per float.
+    public static func packed(_ vertices: [SIMD3<Float>]) -> Data {
+        var bytes: [UInt8] = []
+        bytes.reserveCapacity(vertices.count * 12)
+        func append(_ value: Float) {
+            withUnsafeBytes(of: value.bitPattern.littleEndian) { bytes.append(contentsOf: $0) }
+        }
+        for vertex in vertices {
+            append(vertex.x)
+            append(vertex.y)
+            append(vertex.z)
+        }
+        return Data(bytes)
     }
 
     /// `ARFaceGeometry.triangleIndices` (16-bit, signed by ARKit's declaration

@@ -1,81 +1,59 @@
 import ARKit
 
-/// Pairs the core's blendshape names with the keys ARKit uses in
-/// `ARFaceAnchor.blendShapes`, without the app spelling a single name.
+/// ARKit's dictionary key for each of the core's blendshapes, without the app
+/// spelling a single name.
 ///
-/// The core names the 52 shapes as Apple's Swift constants do
-/// (`eyeBlinkLeft`), and `arkitNames()` gives them in the core's order. ARKit's
-/// dictionary keys, though, carry Objective-C raw values that abbreviate the
-/// side (`ARFaceAnchor.BlendShapeLocation.eyeBlinkLeft.rawValue` is
-/// `"eyeBlink_L"`), so `BlendShapeLocation(rawValue: name)` alone would find
-/// nothing for most shapes. A key matches a name when both spell the same
-/// words: compared without case and underscores, with a trailing `_L` / `_R`
-/// read as `Left` / `Right` (the same reading the core's own name parser
-/// applies). The keys come from a real anchor, so whatever ARKit calls them,
-/// the app follows.
+/// The core names the 52 shapes as Apple's Swift constants do (`eyeBlinkLeft`,
+/// `arkitNames()`) and gives ARKit's raw values for them in the same order
+/// (`eyeBlink_L`, `arkitKeys()`): the keys of `ARFaceAnchor.blendShapes` and of
+/// `ARFaceGeometry(blendShapes:)`. The app turns the raw values into keys and
+/// checks them against what a real anchor reports, so a key ARKit does not
+/// know fails loudly instead of reading as a weight of zero.
 public struct BlendShapeKeys: Equatable {
     /// ARKit's key for each of the core's names, in the core's order.
     public let keys: [ARFaceAnchor.BlendShapeLocation]
 
-    /// Why the names and ARKit's keys could not be paired one to one.
+    /// Why the core's keys and ARKit's did not agree.
     public enum MatchError: Error, Equatable, LocalizedError {
-        /// Names for which ARKit offers no key.
+        /// Names whose key ARKit does not report.
         case missing([String])
-        /// A name that more than one of ARKit's keys spell.
-        case ambiguous(String)
+        /// The core gave a different number of names and keys.
+        case mismatched(names: Int, keys: Int)
 
         public var errorDescription: String? {
             switch self {
             case .missing(let names):
                 return "ARKit reports no expression named \(names.joined(separator: ", "))."
-            case .ambiguous(let name):
-                return "ARKit reports more than one expression named \(name)."
+            case .mismatched(let names, let keys):
+                return "The core named \(names) expressions but gave \(keys) ARKit keys."
             }
         }
     }
 
-    /// Pairs each of `names` with the one key in `available` that spells it.
+    /// The keys of `rawKeys`, checked against `available`.
     ///
     /// - Parameters:
-    ///   - names: the core's names, in its order (`arkitNames()`).
+    ///   - names: the core's names, in its order (`arkitNames()`), for messages.
+    ///   - rawKeys: ARKit's raw values in the same order (`arkitKeys()`).
     ///   - available: ARKit's keys, e.g. `Array(anchor.blendShapes.keys)`.
-    /// - Throws: `MatchError` when a name has no key or more than one.
+    /// - Throws: `MatchError` when the lists differ in length or ARKit lacks a key.
     public static func match(
         names: [String],
+        rawKeys: [String],
         available: [ARFaceAnchor.BlendShapeLocation]
     ) throws -> BlendShapeKeys {
-        var bySpelling: [String: [ARFaceAnchor.BlendShapeLocation]] = [:]
-        for key in available {
-            bySpelling[spelling(of: key.rawValue), default: []].append(key)
+        guard names.count == rawKeys.count else {
+            throw MatchError.mismatched(names: names.count, keys: rawKeys.count)
         }
-        var keys: [ARFaceAnchor.BlendShapeLocation] = []
+        let keys = rawKeys.map { ARFaceAnchor.BlendShapeLocation(rawValue: $0) }
+        let reported = Set(available)
         var missing: [String] = []
-        for name in names {
-            let candidates = bySpelling[spelling(of: name)] ?? []
-            if candidates.count > 1 {
-                throw MatchError.ambiguous(name)
-            }
-            if let key = candidates.first {
-                keys.append(key)
-            } else {
-                missing.append(name)
-            }
+        for (name, key) in zip(names, keys) where !reported.contains(key) {
+            missing.append(name)
         }
         if !missing.isEmpty {
             throw MatchError.missing(missing)
         }
         return BlendShapeKeys(keys: keys)
-    }
-
-    /// The words a name spells: lower case, without underscores, with a
-    /// trailing `_l` / `_r` written out as `left` / `right`.
-    public static func spelling(of text: String) -> String {
-        var lowered = text.lowercased()
-        if lowered.hasSuffix("_l") {
-            lowered = String(lowered.dropLast(2)) + "left"
-        } else if lowered.hasSuffix("_r") {
-            lowered = String(lowered.dropLast(2)) + "right"
-        }
-        return lowered.replacingOccurrences(of: "_", with: "")
     }
 }

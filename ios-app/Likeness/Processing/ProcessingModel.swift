@@ -57,8 +57,11 @@ final class ProcessingModel {
                 let avatar = try face.avatar(avatarGlb: nil, listener: reporter)
                 CoreQueue.onMain { [weak self] in self?.advance(to: .writingFiles) }
                 let files = try ExportFiles.write(avatar, beside: saved)
+                let preview = try AvatarPreview(glb: avatar.glb)
                 let outcome = ProcessingOutcome(
                     face: face,
+                    preview: preview,
+                    previewTriangles: preview.triangles(),
                     method: face.method(),
                     triangles: face.triangles(),
                     quality: saved.handle.qualitySummary(),
@@ -104,6 +107,10 @@ final class ProcessingModel {
 struct ProcessingOutcome {
     /// The person's 52 shapes, to pose live.
     let face: PersonalizedFace
+    /// The avatar just written, to pose live beside the face.
+    let preview: AvatarPreview
+    /// The avatar's triangles.
+    let previewTriangles: [UInt32]
     /// The personalization method the core used.
     let method: String
     /// The face mesh's triangles.

@@ -1,23 +1,26 @@
 import ARKit
 import LikenessFFI
 
-/// The live mirror: the person's own face shapes, driven by their ARKit
-/// weights frame by frame.
+/// The live mirror: the person's own face shapes and their avatar, driven by
+/// their ARKit weights frame by frame.
 ///
 /// Runs its own face-tracking session (no camera picture is shown). Each
-/// frame's weights go to the core's `PersonalizedFace.pose(weights:)`, on
-/// `CoreQueue`, and the posed vertices to the screen.
+/// frame's weights go to the core's `PersonalizedFace.pose(weights:)` and
+/// `AvatarPreview.pose(weights:)`, on `CoreQueue`, and the posed vertices to
+/// the screen.
 final class MirrorDriver: NSObject, ARSessionDelegate, @unchecked Sendable {
     /// What the mirror tells the screen, on the main actor.
     enum Update {
-        /// The face's vertices for the latest frame (xyz flattened).
-        case posed([Float])
+        /// The face's and the avatar's vertices for the latest frame (xyz
+        /// flattened).
+        case posed(face: [Float], avatar: [Float])
         /// The mirror stopped, in words.
         case failed(String)
     }
 
     private let arSession = ARSession()
     private let face: PersonalizedFace
+    private let avatar: AvatarPreview
     // Touched on CoreQueue only.
     private let reader: FaceFrameReader
     private var stopped = false
@@ -25,11 +28,13 @@ final class MirrorDriver: NSObject, ARSessionDelegate, @unchecked Sendable {
 
     /// - Parameters:
     ///   - face: the person's shapes from the core.
+    ///   - avatar: the avatar they were implanted into.
     ///   - deliver: receives every update, on the main actor, in order.
-    init(face: PersonalizedFace, deliver: @escaping @MainActor (Update) -> Void) {
+    init(face: PersonalizedFace, avatar: AvatarPreview, deliver: @escaping @MainActor (Update) -> Void) {
         self.face = face
+        self.avatar = avatar
         self.deliver = deliver
-        reader = FaceFrameReader(names: arkitNames())
+        reader = FaceFrameReader(names: arkitNames(), rawKeys: arkitKeys())
         super.init()
         arSession.delegate = self
         arSession.delegateQueue = CoreQueue.queue
@@ -71,8 +76,9 @@ final class MirrorDriver: NSObject, ARSessionDelegate, @unchecked Sendable {
 
     private func pose(weights: [Float]) {
         do {
-            let vertices = try face.pose(weights: weights)
-            send(.posed(vertices))
+            let faceVertices = try face.pose(weights: weights)
+            let avatarVertices = try avatar.pose(weights: weights)
+            send(.posed(face: faceVertices, avatar: avatarVertices))
         } catch {
             fail(error)
         }

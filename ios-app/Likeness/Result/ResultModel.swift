@@ -3,8 +3,9 @@ import LikenessFFI
 import Observation
 import SceneKit
 
-/// The result screen's content: the live mirror of the person's own face, what
-/// the core says about the capture and the avatar, and the files to share.
+/// The result screen's content: the live mirror of the person's own face and
+/// their avatar, what the core says about the capture and the avatar, and the
+/// files to share.
 @MainActor @Observable
 final class ResultModel {
     /// What the core thinks of the capture.
@@ -22,7 +23,12 @@ final class ResultModel {
 
     /// The mirrored face; its geometry changes every frame.
     let mirrorNode = SCNNode()
+    /// The avatar, moving with the face: `avatarMesh` inside it, moved and
+    /// scaled so the avatar's face fills the view as the mirrored face does.
+    let avatarNode = SCNNode()
+    private let avatarMesh = SCNNode()
     private let triangles: [UInt32]
+    private let avatarTriangles: [UInt32]
     @ObservationIgnored private var mirror: MirrorDriver?
 
     init(outcome: ProcessingOutcome) {
@@ -32,7 +38,15 @@ final class ResultModel {
         files = outcome.files
         method = outcome.method
         triangles = outcome.triangles
-        mirror = MirrorDriver(face: outcome.face) { [weak self] update in
+        avatarTriangles = outcome.previewTriangles
+        let focus = outcome.preview.focus()
+        avatarMesh.pivot = SCNMatrix4MakeTranslation(focus.x, focus.y, focus.z)
+        if focus.radius > 0 {
+            let scale = Theme.faceRadius / focus.radius
+            avatarMesh.scale = SCNVector3(scale, scale, scale)
+        }
+        avatarNode.addChildNode(avatarMesh)
+        mirror = MirrorDriver(face: outcome.face, avatar: outcome.preview) { [weak self] update in
             self?.apply(update)
         }
     }
@@ -50,8 +64,9 @@ final class ResultModel {
 
     private func apply(_ update: MirrorDriver.Update) {
         switch update {
-        case .posed(let vertices):
-            mirrorNode.geometry = MeshGeometry.make(vertices: vertices, triangles: triangles)
+        case .posed(let face, let avatar):
+            mirrorNode.geometry = MeshGeometry.make(vertices: face, triangles: triangles)
+            avatarMesh.geometry = MeshGeometry.make(vertices: avatar, triangles: avatarTriangles)
         case .failed(let message):
             mirrorProblem = message
         }

@@ -1,14 +1,15 @@
 import SwiftUI
 import UIKit
 
-/// The result: the person's own face shapes moving with them (a mirror), what
-/// the core says about the capture and the avatar, and the files to share.
+/// The result: the person's own face shapes and their avatar moving with them
+/// (a mirror), what the core says about the capture and the avatar, and the
+/// files to share.
 ///
-/// Why no 3D preview of the avatar itself: the avatar is a GLB (binary glTF),
-/// which SceneKit cannot read, and the app takes no third-party packages (a
-/// glTF loader such as GLTFKit2 would be one). The mirror shows the very shapes
-/// that were implanted into the avatar; the GLB goes out through the share
-/// sheet to Blender, Unity, Reality Composer or any glTF viewer.
+/// SceneKit cannot read GLB and the app takes no third-party packages, so the
+/// avatar preview is the core's: `AvatarPreview` reads the GLB just written and
+/// poses it by the live weights, and the app draws its one triangle list in
+/// clay. The GLB goes out through the share sheet to Blender, Unity, Reality
+/// Composer or any glTF viewer.
 struct ResultView: View {
     let model: ResultModel
     /// Back to the start screen.
@@ -34,16 +35,20 @@ struct ResultView: View {
 
     private var mirror: some View {
         VStack(spacing: 8) {
-            MeshView(node: model.mirrorNode, continuous: true)
-                .frame(maxWidth: .infinity)
-                .frame(height: Theme.mirrorHeight)
-                .background(Color(.secondarySystemBackground), in: RoundedRectangle(cornerRadius: Theme.cornerRadius))
-                .accessibilityLabel("Your personalized face, moving with you")
+            HStack(spacing: 8) {
+                MeshView(node: model.mirrorNode, continuous: true)
+                    .accessibilityLabel("Your personalized face, moving with you")
+                MeshView(node: model.avatarNode, continuous: true)
+                    .accessibilityLabel("Your avatar, moving with you")
+            }
+            .frame(maxWidth: .infinity)
+            .frame(height: Theme.mirrorHeight)
+            .background(Color(.secondarySystemBackground), in: RoundedRectangle(cornerRadius: Theme.cornerRadius))
             if let problem = model.mirrorProblem {
                 Label(problem, systemImage: "exclamationmark.triangle")
                     .font(.footnote)
             } else {
-                Text("Your own 52 expressions, driven live by your face. Try a smile.")
+                Text("Your own 52 expressions and your avatar, driven live by your face. Try a smile.")
                     .font(.footnote)
                     .foregroundStyle(.secondary)
             }

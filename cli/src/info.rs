@@ -145,7 +145,9 @@ pub fn info(file: &Path, json: bool) -> CliResult {
 /// Reads a session file; every error names the file.
 pub fn read_session(file: &Path) -> Result<Session, Box<dyn std::error::Error>> {
     session_file::read(file).map_err(|e| match e {
-        session_file::SessionFileError::Io { .. } => e.into(),
+        session_file::SessionFileError::Io { .. } | session_file::SessionFileError::File(_) => {
+            e.into()
+        }
         other => format!("{}: {other}", file.display()).into(),
     })
 }

@@ -12,9 +12,15 @@ pub fn import_command(dir: &Path, out: &Path) -> CliResult {
     for warning in &warnings {
         eprintln!("warning: {warning}");
     }
+    // Writing fails on the `--out` file (which the error names) or on the
+    // imported session itself (a limit of the format): name the folder.
     session_file::write(out, &session).map_err(|e| match e {
         session_file::SessionFileError::Io { .. } => Box::<dyn std::error::Error>::from(e),
-        other => format!("{}: {other}", out.display()).into(),
+        other => format!(
+            "{}: cannot be stored as a session file: {other}",
+            dir.display()
+        )
+        .into(),
     })?;
     eprintln!(
         "imported {}: {} captures, {} test expressions, {} frames, {} warnings -> {}",

@@ -294,10 +294,16 @@ fn bad_inputs_name_the_file_and_line() {
         fs::create_dir(d.join("neutral.obj")).unwrap();
     });
     assert!(
-        matches!(err, InterchangeError::File(FileError::Io { .. })),
+        matches!(
+            err,
+            InterchangeError::File(FileError::NotAFile {
+                kind: "a directory",
+                ..
+            })
+        ),
         "{m}"
     );
-    expect(&m, "neutral.obj", &[]);
+    expect(&m, "neutral.obj", &["a directory, not a regular file"]);
 
     // Geometry that does not match the template.
     let (err, m) = import_error("vertex-count", |d| {
@@ -446,4 +452,62 @@ fn bad_inputs_name_the_file_and_line() {
         edit(d, "frames.csv", "\n0.0,", "\n10:42:31,");
     });
     expect(&m, "frames.csv", &[":2: column 1", "timecode"]);
+}
+
+#[test]
+fn errors_say_where_and_quote_little() {
+    // A coordinate a session file cannot store is the OBJ's fault, at its line.
+    let (err, m) = import_error("far-coordinate", |d| {
+        edit(d, "neutral.obj", "v 0.1000000", "v 1000.0")
+    });
+    assert!(matches!(err, InterchangeError::Obj { .. }), "{m}");
+    expect(
+        &m,
+        "/neutral.obj",
+        &[":3:", "1000 m is outside the range ±100 m"],
+    );
+    // A 10 KB cell is quoted by its first 40 characters.
+    let long = "9".repeat(10_000);
+    let (_, m) = import_error("long-cell", |d| {
+        edit(d, "expressions/weights.csv", ",0.9,", &format!(",x{long},"))
+    });
+    expect(&m, "expressions/weights.csv", &[":2: column 19", "…"]);
+    assert!(m.len() < 200, "{} bytes: {m}", m.len());
+    // A 309-digit timecode is refused on its own line.
+    let (_, m) = import_error("huge-timecode", |d| {
+        let row = |tc: &str| format!("{tc},52{}\n", ",0".repeat(52 + 9));
+        let huge = format!("{}:00:00:00", "9".repeat(309));
+        let text = format!(
+            "{}{}{}",
+            live_link_header(),
+            row("00:00:00:00.000"),
+            row(&huge)
+        );
+        fs::write(d.join("frames.csv"), text).unwrap();
+    });
+    expect(&m, "frames.csv", &[":3: column 1", "is not a timecode"]);
+    assert!(m.len() < 200, "{m}");
+}
+
+#[test]
+fn obj_files_are_found_in_any_case() {
+    let dir = scratch("upper-case");
+    export_folder(&tiny_session(), &dir).unwrap();
+    for rel in [
+        "expressions/jawOpen",
+        "test/smile-squint",
+        "template/tongueOut",
+    ] {
+        fs::rename(
+            dir.join(format!("{rel}.obj")),
+            dir.join(format!("{rel}.OBJ")),
+        )
+        .unwrap();
+    }
+    let (back, warnings) = import_folder(&dir).unwrap();
+    assert!(warnings.is_empty(), "{warnings:?}");
+    assert_eq!(back, import_folder(&dir).unwrap().0);
+    assert_eq!(back.captures.len(), tiny_session().captures.len());
+    assert_eq!(back.tests.len(), tiny_session().tests.len());
+    fs::remove_dir_all(&dir).unwrap();
 }

@@ -9,6 +9,8 @@
 //! length is checked against the bytes actually there before it is used.
 
 use super::GlbError;
+use super::read::MAX_GLB_BYTES;
+use crate::io::read_bounded;
 use std::path::{Path, PathBuf};
 
 const MAGIC: u32 = 0x4654_6C67; // "glTF"
@@ -145,7 +147,8 @@ pub(crate) fn load_buffers(
                 } else {
                     let path = external_path(uri, folder)
                         .ok_or_else(|| err(format!("cannot resolve URI {uri:?}")))?;
-                    std::fs::read(&path).map_err(|e| err(format!("{}: {e}", path.display())))?
+                    read_bounded(&path, MAX_GLB_BYTES, "a glTF buffer")
+                        .map_err(|e| err(e.to_string()))?
                 }
             }
         };

@@ -1,13 +1,18 @@
 //! Everything that can go wrong reading or writing a glTF avatar, each case
 //! naming the file and where in it (mesh, primitive, accessor, vertex).
 
+use crate::io::FileError;
 use std::io;
 use std::path::PathBuf;
 
 /// A glTF / GLB avatar could not be read or written.
 #[derive(Debug, thiserror::Error)]
 pub enum GlbError {
-    /// The file could not be read or written.
+    /// The file could not be opened or read: missing, not a regular file,
+    /// or over [`MAX_GLB_BYTES`](super::read::MAX_GLB_BYTES).
+    #[error(transparent)]
+    File(#[from] FileError),
+    /// The file could not be written.
     #[error("{file}: {source}")]
     Io {
         /// The file.

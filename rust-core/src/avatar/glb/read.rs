@@ -25,6 +25,7 @@ use super::accessor::Source;
 use super::scene::{Placement, placements};
 use super::{GlbError, container};
 use crate::avatar::{ArkitTargets, Avatar, AvatarMesh, AvatarPart, target_names::arkit_targets};
+use crate::io::read_bounded;
 use glam::Vec3;
 use std::path::{Path, PathBuf};
 
@@ -54,13 +55,16 @@ impl GlbAvatar {
     }
 }
 
+/// Largest avatar file read, and largest buffer file beside a `.gltf`
+/// (512 MiB): avatars in common use, textures included, are 5–100 MB. The
+/// file is read whole (it is held while its targets are written back) and
+/// its images are never decoded.
+pub const MAX_GLB_BYTES: u64 = 512 << 20;
+
 /// Reads a `.glb`, or a `.gltf` with its buffers in `data:` URIs or in
-/// files beside it.
+/// files beside it; only regular files of at most [`MAX_GLB_BYTES`].
 pub fn read_avatar(path: &Path) -> Result<GlbAvatar, GlbError> {
-    let bytes = std::fs::read(path).map_err(|source| GlbError::Io {
-        file: path.to_path_buf(),
-        source,
-    })?;
+    let bytes = read_bounded(path, MAX_GLB_BYTES, "a glTF file")?;
     read(&bytes, path, path.parent())
 }
 

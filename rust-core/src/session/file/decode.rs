@@ -5,15 +5,15 @@
 
 use super::error::SessionFileError;
 use super::geometry_codec::{decode_mesh, decode_values, dequantize_mesh, dequantize_weights};
+use super::limits::{Extent, Limit, MAX_PAYLOAD_BYTES, check_duration, check_extent};
 use super::series::{BLOCK, SeriesDecoder};
 use super::traversal::Traversal;
 use super::wire::{
-    FRAME_HAS_VERTICES, FRAME_TRACKED, WireFrames, WireSession, WireTruth, bincode_config,
+    FRAME_HAS_VERTICES, FRAME_TRACKED, WireFrames, WireSession, WireTruth, decode_wire,
 };
-use super::{MAX_FRAMES, MAX_PAYLOAD_BYTES};
 use crate::Weights;
 use crate::arkit::{BLENDSHAPE_COUNT, Blendshape};
-use crate::geometry::topology::{MAX_VERTICES, Topology};
+use crate::geometry::topology::Topology;
 use crate::session::{
     CapturedExpression, DeviceInfo, Frame, GroundTruth, Session, SessionError, SessionParts,
     Template, TestExpression, TruePeak,
@@ -24,7 +24,12 @@ use glam::Vec3;
 /// template, the neutral scan, the stream, the expressions and the ground
 /// truth, in that order, then the session's own checks.
 pub(super) fn decode_payload(payload: &[u8]) -> Result<Session, SessionFileError> {
+    if payload.len() > MAX_PAYLOAD_BYTES {
+        let limit = (Limit::PayloadBytes, payload.len() as u64);
+        return Err(SessionFileError::too_large("payload", limit));
+    }
     let mut wire = decode_wire(payload)?;
+    check_wire_extent(&wire)?;
     let topology = decode_topology(&mut wire)?;
     let traversal = Traversal::for_mesh(&topology);
     let template_neutral_q =
@@ -58,33 +63,44 @@ pub(super) fn decode_payload(payload: &[u8]) -> Result<Session, SessionFileError
     })?)
 }
 
-/// The bincode structure of the payload, which must use every byte.
-fn decode_wire(payload: &[u8]) -> Result<WireSession<'_>, SessionFileError> {
-    if payload.len() > MAX_PAYLOAD_BYTES {
-        return Err(too_large("payload", payload.len(), MAX_PAYLOAD_BYTES));
-    }
-    let (wire, used): (WireSession<'_>, usize) =
-        bincode::serde::borrow_decode_from_slice(payload, bincode_config())
-            .map_err(|e| SessionFileError::corrupt("payload", e.to_string()))?;
-    if used != payload.len() {
-        return Err(SessionFileError::corrupt(
-            "payload",
-            format!(
-                "{} unexpected bytes after the session",
-                payload.len() - used
-            ),
-        ));
-    }
-    Ok(wire)
+/// Checks the session's extent against the [limits](super::limits) before
+/// anything is sized by it: the vertex count, the frame count, and the
+/// vertices of every mesh together.
+fn check_wire_extent(wire: &WireSession<'_>) -> Result<(), SessionFileError> {
+    let stream_meshes = wire
+        .frames
+        .flags
+        .iter()
+        .filter(|&&f| f & FRAME_HAS_VERTICES != 0)
+        .count();
+    let truth_meshes = wire.truth.as_ref().map_or(0, |t| {
+        1 + t.blendshapes.len() + t.captures.len() + t.tests.len()
+    });
+    let extent = Extent {
+        vertices: wire.vertex_count as usize,
+        frames: wire.frames.count as usize,
+        meshes: 2
+            + wire.template_shapes.len()
+            + wire.captures.len()
+            + wire.tests.len()
+            + truth_meshes
+            + stream_meshes,
+    };
+    check_extent(extent).map_err(|limit| {
+        let field = match limit.0 {
+            Limit::Vertices => "topology.vertex_count",
+            Limit::Frames => "frames.count",
+            _ => "meshes",
+        };
+        SessionFileError::too_large(field, limit)
+    })
 }
 
 /// The triangle list (taken out of `wire`), once the vertex count is known
 /// to be plausible.
 fn decode_topology(wire: &mut WireSession<'_>) -> Result<Topology, SessionFileError> {
+    // The vertex count is within MAX_VERTICES (`check_wire_extent`).
     let v = wire.vertex_count as usize;
-    if v > MAX_VERTICES {
-        return Err(too_large("topology.vertex_count", v, MAX_VERTICES));
-    }
     // Every mesh needs at least a byte per value: check against the first one
     // before sizing anything by the vertex count.
     if wire.template_neutral.len() <= 3 * v {
@@ -158,14 +174,6 @@ fn decode_tests(
     Ok(tests)
 }
 
-fn too_large(what: &str, value: usize, limit: usize) -> SessionFileError {
-    SessionFileError::TooLarge {
-        what: what.to_string(),
-        value: value as u64,
-        limit: limit as u64,
-    }
-}
-
 fn blendshape(field: &str, index: u8) -> Result<Blendshape, SessionFileError> {
     Blendshape::from_index(index as usize).ok_or_else(|| {
         SessionFileError::corrupt(field, format!("{index} is not an ARKit blendshape index"))
@@ -200,10 +208,8 @@ fn decode_frames(
     neutral_q: &[i32],
     traversal: &Traversal,
 ) -> Result<Vec<Frame>, SessionFileError> {
+    // The count is within MAX_FRAMES (`check_wire_extent`).
     let count = wire.count as usize;
-    if count > MAX_FRAMES {
-        return Err(too_large("frame count", count, MAX_FRAMES));
-    }
     let corrupt = |field: String, reason: String| SessionFileError::corrupt(field, reason);
     if wire.flags.len() != count {
         let reason = format!("{} flag bytes for {count} frames", wire.flags.len());
@@ -237,6 +243,10 @@ fn decode_frames(
             tracked: flag & FRAME_TRACKED != 0,
             vertices: None,
         });
+    }
+    if let (Some(first), Some(last)) = (frames.first(), frames.last()) {
+        check_duration(first.timestamp, last.timestamp)
+            .map_err(|limit| SessionFileError::too_large("frames.timestamps", limit))?;
     }
 
     let series_error = |frame: usize, what: &str, reason: String| {

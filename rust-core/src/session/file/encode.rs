@@ -2,6 +2,7 @@
 
 use super::error::SessionFileError;
 use super::geometry_codec::{encode_mesh, encode_values, quantize_mesh, quantize_weights};
+use super::limits::Extent;
 use super::series::SeriesEncoder;
 use super::traversal::Traversal;
 use super::wire::{
@@ -49,6 +50,28 @@ struct PayloadBlobs {
     captures: Vec<ExpressionBlobs>,
     tests: Vec<ExpressionBlobs>,
     truth: Option<TruthBlobs>,
+}
+
+/// The sizes of `session` that the [limits](super::limits) bound.
+pub(super) fn extent(session: &Session) -> Extent {
+    let stream_meshes = session
+        .frames
+        .iter()
+        .filter(|f| f.vertices.is_some())
+        .count();
+    let truth_meshes = session.truth.as_ref().map_or(0, |t| {
+        1 + t.blendshapes.len() + t.captures.len() + t.tests.len()
+    });
+    Extent {
+        vertices: session.topology.vertex_count(),
+        frames: session.frames.len(),
+        meshes: 2
+            + session.template.shapes.len()
+            + session.captures.len()
+            + session.tests.len()
+            + truth_meshes
+            + stream_meshes,
+    }
 }
 
 /// Serializes `session` (valid by construction) to the uncompressed
@@ -193,11 +216,7 @@ fn wire_session<'a>(
 }
 
 fn count_u32(what: &str, n: usize) -> Result<u32, SessionFileError> {
-    u32::try_from(n).map_err(|_| SessionFileError::TooLarge {
-        what: what.to_string(),
-        value: n as u64,
-        limit: u32::MAX as u64,
-    })
+    u32::try_from(n).map_err(|_| SessionFileError::Encode(format!("{what}: {n} is over 32 bits")))
 }
 
 fn encode_frames(

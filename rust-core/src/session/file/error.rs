@@ -1,7 +1,9 @@
 //! What can go wrong reading or writing a session file.
 
 use super::FORMAT_VERSION;
+use super::limits::Limit;
 use crate::geometry::topology::TopologyError;
+use crate::io::FileError;
 use crate::session::SessionError;
 use std::path::PathBuf;
 
@@ -10,7 +12,11 @@ use std::path::PathBuf;
 /// wrong and, where it can, where (`frames[812].vertices`).
 #[derive(Debug, thiserror::Error)]
 pub enum SessionFileError {
-    /// The file could not be read or written.
+    /// The file could not be opened or read: missing, not a regular file
+    /// (a directory, a FIFO, a device), or unreadable.
+    #[error(transparent)]
+    File(#[from] FileError),
+    /// The file could not be written.
     #[error("{}: {source}", path.display())]
     Io {
         /// The file.
@@ -45,15 +51,16 @@ pub enum SessionFileError {
         /// The checksum of the bytes actually present.
         found: u32,
     },
-    /// A declared size is over a hard cap of this format.
-    #[error("{what} is {value}, over the limit of {limit}")]
+    /// A size declared in the header or the payload is over one of the
+    /// format's [limits](super::limits); nothing was allocated for it.
+    #[error("{field} is {value} {}, over the limit {limit}", limit.unit())]
     TooLarge {
-        /// Which size.
-        what: String,
+        /// Which size, e.g. `frames.count`.
+        field: String,
         /// The declared size.
         value: u64,
-        /// The cap.
-        limit: u64,
+        /// The limit it passes.
+        limit: Limit,
     },
     /// The payload passed its checksum but does not decode: a bug in the
     /// writer, or a deliberately crafted file.
@@ -93,6 +100,16 @@ impl SessionFileError {
         SessionFileError::Corrupt {
             field: field.into(),
             reason: reason.into(),
+        }
+    }
+
+    /// Shorthand for [`SessionFileError::TooLarge`], from what
+    /// [`check_extent`](super::limits::check_extent) and its kin return.
+    pub(super) fn too_large(field: impl Into<String>, (limit, value): (Limit, u64)) -> Self {
+        SessionFileError::TooLarge {
+            field: field.into(),
+            value,
+            limit,
         }
     }
 }

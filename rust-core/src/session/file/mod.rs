@@ -16,10 +16,28 @@
 //! [`Session`], with meshes and weights as varint blobs written by
 //! `session/file/geometry_codec.rs`. A reader checks the
 //! magic, then the version (a file of another version is
-//! [`SessionFileError::UnsupportedVersion`]), the lengths, the checksum, and
-//! only then inflates and decodes; the decoded parts become a session only
+//! [`SessionFileError::UnsupportedVersion`]), the lengths against the file's
+//! size and the [limits], all from the first 32 bytes and the file's
+//! size before reading further; then the checksum, and only then inflates
+//! and decodes, field by field, checking every count against the limits
+//! before allocating for it; the decoded parts become a session only
 //! through [`Session::new`]'s checks.
 //!
+//! # Limits
+//!
+//! A file may hold at most ten minutes of capture ([`MAX_DURATION_SECONDS`],
+//! [`MAX_FRAMES`] = 36,000 frames at 60 fps), meshes of at most
+//! [`MAX_VERTICES`] = 16,384 vertices and [`MAX_DECODED_VERTICES`] (ten
+//! minutes of 1,220-vertex frames and a thousand meshes more, 542 MB
+//! decoded) in all, and a payload of at most [`MAX_PAYLOAD_BYTES`] = 256 MiB
+//! ([`MAX_COMPRESSED_BYTES`] compressed). A two-minute capture is about
+//! 7,200 frames, a 33 MB payload: the limits leave five times that. A
+//! file beyond a limit is refused with [`SessionFileError::TooLarge`] naming
+//! the field and the limit, before anything is allocated for it; reading a
+//! file within them needs at most the compressed payload, the payload and
+//! the decoded session at once. [`read`] opens regular files only (not a
+//! directory, a FIFO or `/dev/zero`).
+
 //! # Precision
 //!
 //! Positions are stored in units of 10 µm and weights in units of 1e-5
@@ -69,8 +87,10 @@
 //!
 //! | what | file |
 //! |---|---|
-//! | header, checksum, compression, the limits | `mod.rs` |
-//! | the bincode structure of the payload | `wire.rs` |
+//! | reading and writing files, compression | `mod.rs` |
+//! | the header, checked before the payload is read | `header.rs` |
+//! | the limits and their reasons | [`limits`] |
+//! | the bincode structure of the payload, decoded field by field | `wire.rs` |
 //! | session → payload; payload → session, trusting nothing | `encode.rs`, `decode.rs` |
 //! | meshes and weights as quantized, predicted varint blobs | `geometry_codec.rs`, `series.rs` |
 //! | the vertex order in which neighbours predict each other | `traversal.rs` |
@@ -80,15 +100,24 @@ mod decode;
 mod encode;
 mod error;
 mod geometry_codec;
+mod header;
+pub mod limits;
 mod series;
 mod traversal;
 mod wire;
 
 pub use error::SessionFileError;
 pub use geometry_codec::{MAX_Q, QUANTUM, dequantize, quantize};
+pub use limits::{
+    Limit, MAX_COMPRESSED_BYTES, MAX_DECODED_VERTICES, MAX_DURATION_SECONDS, MAX_FRAMES,
+    MAX_PAYLOAD_BYTES, MAX_VERTICES,
+};
 
 use crate::io::atomic_write::write_atomically;
+use crate::io::{FileError, open_bounded};
 use crate::session::Session;
+use header::Header;
+use std::io::Read;
 use std::path::Path;
 
 /// The first eight bytes of every session file.
@@ -100,13 +129,8 @@ pub const FORMAT_VERSION: u32 = 1;
 /// Bytes before the payload.
 pub const HEADER_LEN: usize = 32;
 
-/// Largest number of frames a file may hold (4.6 hours at 60 fps).
-pub const MAX_FRAMES: usize = 1_000_000;
-
-/// Largest uncompressed payload a file may declare (512 MiB, about half an
-/// hour of 60 fps geometry). Decoding never allocates more than a small
-/// multiple of this.
-pub const MAX_PAYLOAD_BYTES: usize = 1 << 29;
+/// Largest session file: the header and [`MAX_COMPRESSED_BYTES`].
+pub const MAX_FILE_BYTES: u64 = (HEADER_LEN + MAX_COMPRESSED_BYTES) as u64;
 
 /// DEFLATE level (irrelevant to Huffman-only coding but part of the flags).
 const COMPRESSION_LEVEL: u8 = 6;
@@ -114,19 +138,20 @@ const COMPRESSION_LEVEL: u8 = 6;
 /// DEFLATE strategy: 2 = Huffman only, no match search (see the table above).
 const COMPRESSION_STRATEGY: i32 = 2;
 
-/// DEFLATE can expand at most 1032:1 (a 258-byte match in two bits).
-const MAX_INFLATE_RATIO: u64 = 1032;
-
 /// Serializes `session` to the bytes of a session file. A [`Session`] is
-/// valid by construction, so every file written can be read back.
+/// valid by construction, and one within the [limits] can be read
+/// back; one beyond them is refused here.
 pub fn encode(session: &Session) -> Result<Vec<u8>, SessionFileError> {
+    limits::check_extent(encode::extent(session))
+        .map_err(|limit| SessionFileError::too_large("session", limit))?;
+    if let (Some(first), Some(last)) = (session.frames.first(), session.frames.last()) {
+        limits::check_duration(first.timestamp, last.timestamp)
+            .map_err(|limit| SessionFileError::too_large("frames", limit))?;
+    }
     let payload = encode::encode_payload(session)?;
     if payload.len() > MAX_PAYLOAD_BYTES {
-        return Err(SessionFileError::TooLarge {
-            what: "uncompressed payload".to_string(),
-            value: payload.len() as u64,
-            limit: MAX_PAYLOAD_BYTES as u64,
-        });
+        let limit = (Limit::PayloadBytes, payload.len() as u64);
+        return Err(SessionFileError::too_large("payload", limit));
     }
     seal(&payload)
 }
@@ -150,74 +175,16 @@ fn seal(payload: &[u8]) -> Result<Vec<u8>, SessionFileError> {
 /// Reads a session from the bytes of a session file. Never panics and never
 /// trusts a length it has not checked; the session returned is valid.
 pub fn decode(bytes: &[u8]) -> Result<Session, SessionFileError> {
-    // Indexing: every header slice is taken only after the length check
-    // before it (8, 12, then HEADER_LEN bytes).
-    let header = |expected: usize| SessionFileError::Truncated {
-        what: "header",
-        expected: expected as u64,
-        found: bytes.len() as u64,
-    };
-    if bytes.len() < MAGIC.len() {
-        return Err(if MAGIC.starts_with(bytes) && !bytes.is_empty() {
-            header(HEADER_LEN)
-        } else {
-            SessionFileError::NotASessionFile
-        });
-    }
-    if bytes[..MAGIC.len()] != MAGIC {
-        return Err(SessionFileError::NotASessionFile);
-    }
-    if bytes.len() < 12 {
-        return Err(header(HEADER_LEN));
-    }
-    let version = u32::from_le_bytes(array(&bytes[8..12]));
-    if version != FORMAT_VERSION {
-        return Err(SessionFileError::UnsupportedVersion(version));
-    }
-    if bytes.len() < HEADER_LEN {
-        return Err(header(HEADER_LEN));
-    }
-    let compressed_len = u64::from_le_bytes(array(&bytes[12..20]));
-    let payload_len = u64::from_le_bytes(array(&bytes[20..28]));
-    let stored_crc = u32::from_le_bytes(array(&bytes[28..32]));
-    let present = (bytes.len() - HEADER_LEN) as u64;
-    if compressed_len > present {
-        return Err(SessionFileError::Truncated {
-            what: "payload",
-            expected: compressed_len,
-            found: present,
-        });
-    }
-    if compressed_len < present {
-        let reason = format!(
-            "{} bytes after the end of the payload",
-            present - compressed_len
-        );
-        return Err(SessionFileError::corrupt("file", reason));
-    }
-    let compressed = &bytes[HEADER_LEN..];
-    let mut crc = crc32fast::Hasher::new();
-    crc.update(&bytes[..28]);
-    crc.update(compressed);
-    let found = crc.finalize();
-    if found != stored_crc {
-        return Err(SessionFileError::Checksum {
-            expected: stored_crc,
-            found,
-        });
-    }
-    if payload_len > MAX_PAYLOAD_BYTES as u64 {
-        return Err(SessionFileError::TooLarge {
-            what: "uncompressed payload".to_string(),
-            value: payload_len,
-            limit: MAX_PAYLOAD_BYTES as u64,
-        });
-    }
-    if payload_len > compressed_len.saturating_mul(MAX_INFLATE_RATIO) {
-        let reason = format!("{compressed_len} compressed bytes cannot inflate to {payload_len}");
-        return Err(SessionFileError::corrupt("header", reason));
-    }
-    let payload = inflate(compressed, payload_len as usize)?;
+    let header = header::parse(&bytes[..bytes.len().min(HEADER_LEN)], bytes.len() as u64)?;
+    // Indexing: the header checked that exactly `compressed_len` bytes follow it.
+    open_payload(&header, &bytes[HEADER_LEN..])
+}
+
+/// The session in a compressed payload that `header` describes: checksum,
+/// inflate, decode.
+fn open_payload(header: &Header, compressed: &[u8]) -> Result<Session, SessionFileError> {
+    header.check_crc(compressed)?;
+    let payload = inflate(compressed, header.payload_len)?;
     decode::decode_payload(&payload)
 }
 
@@ -232,22 +199,38 @@ pub fn write(path: impl AsRef<Path>, session: &Session) -> Result<(), SessionFil
     })
 }
 
-/// Reads and decodes the session file at `path`. I/O errors name the path;
-/// errors in the contents are returned as [`decode()`] gives them.
+/// Reads and decodes the session file at `path`. Only a regular file is
+/// opened; its header is read and checked against the file's size and the
+/// [limits] before the payload is read, and never more than the
+/// header declares is read. I/O errors name the path; errors in the
+/// contents are returned as [`decode()`] gives them.
 pub fn read(path: impl AsRef<Path>) -> Result<Session, SessionFileError> {
     let path = path.as_ref();
-    let bytes = std::fs::read(path).map_err(|source| SessionFileError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    decode(&bytes)
-}
-
-/// Copies a slice whose length the caller has checked into an array.
-fn array<const N: usize>(slice: &[u8]) -> [u8; N] {
-    let mut a = [0u8; N];
-    a.copy_from_slice(slice);
-    a
+    let io = |e| SessionFileError::File(FileError::io(path, e));
+    // No size limit here: a file too large is refused from its header, whose
+    // first bytes may already say it is no session at all.
+    let mut file = open_bounded(path, u64::MAX - 1, "a session file")?;
+    let mut prefix = Vec::with_capacity(HEADER_LEN);
+    (&mut file.reader)
+        .take(HEADER_LEN as u64)
+        .read_to_end(&mut prefix)
+        .map_err(io)?;
+    let header = header::parse(&prefix, file.size)?;
+    // The header matched the file's size, within MAX_COMPRESSED_BYTES.
+    let mut compressed = Vec::with_capacity(header.compressed_len);
+    (&mut file.reader)
+        .take(header.compressed_len as u64 + 1)
+        .read_to_end(&mut compressed)
+        .map_err(io)?;
+    if compressed.len() != header.compressed_len {
+        let reason = format!(
+            "the file changed while it was read: {} payload bytes, the header says {}",
+            compressed.len(),
+            header.compressed_len
+        );
+        return Err(SessionFileError::corrupt("file", reason));
+    }
+    open_payload(&header, &compressed)
 }
 
 fn deflate(data: &[u8]) -> Result<Vec<u8>, SessionFileError> {
@@ -290,14 +273,19 @@ fn deflate(data: &[u8]) -> Result<Vec<u8>, SessionFileError> {
     }
 }
 
+/// Inflates `compressed`, which must give exactly `expected` bytes.
 fn inflate(compressed: &[u8], expected: usize) -> Result<Vec<u8>, SessionFileError> {
+    use miniz_oxide::inflate::TINFLStatus;
     let payload = miniz_oxide::inflate::decompress_to_vec_with_limit(compressed, expected)
         .map_err(|e| {
             let reason = match e.status {
-                miniz_oxide::inflate::TINFLStatus::HasMoreOutput => {
+                TINFLStatus::HasMoreOutput => {
                     format!("inflates to more than the declared {expected} bytes")
                 }
-                status => format!("invalid DEFLATE stream ({status:?})"),
+                TINFLStatus::FailedCannotMakeProgress | TINFLStatus::NeedsMoreInput => {
+                    "the compressed payload ends before its last block".to_string()
+                }
+                _ => "the compressed payload is damaged (not a valid DEFLATE stream)".to_string(),
             };
             SessionFileError::corrupt("payload", reason)
         })?;

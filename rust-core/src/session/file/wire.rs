@@ -8,8 +8,15 @@
 //! varint streams written by [`geometry_codec`](super::geometry_codec)
 //! (single meshes and weight vectors) and [`series`](super::series) (the
 //! frame stream); meshes are `3 × vertex_count` values in planar order.
+//!
+//! bincode writes a struct as its fields one after the other, so
+//! [`decode_wire`] reads the payload one field at a time: a payload that
+//! ends early or holds a malformed value is blamed on the field, in our
+//! words rather than bincode's.
 
+use super::error::SessionFileError;
 use bincode::config::{Configuration, Limit, LittleEndian, Varint};
+use bincode::error::DecodeError;
 use serde::{Deserialize, Serialize};
 
 /// bincode's standard configuration, with reads capped at
@@ -137,4 +144,70 @@ pub struct WireTruth<'a> {
     /// True activations at each test, as plain values.
     #[serde(borrow)]
     pub test_activations: Vec<&'a [u8]>,
+}
+
+/// The rest of a payload, read one field at a time.
+struct Fields<'a> {
+    rest: &'a [u8],
+}
+
+impl<'a> Fields<'a> {
+    /// Decodes the next field, named `field` in errors.
+    fn next<T: Deserialize<'a>>(&mut self, field: &str) -> Result<T, SessionFileError> {
+        let (value, used): (T, usize) =
+            bincode::serde::borrow_decode_from_slice(self.rest, bincode_config())
+                .map_err(|e| SessionFileError::corrupt(field, describe(&e)))?;
+        // Indexing: bincode never reports more bytes used than it was given.
+        self.rest = &self.rest[used.min(self.rest.len())..];
+        Ok(value)
+    }
+}
+
+/// What a bincode error means for the payload, in our words.
+fn describe(error: &DecodeError) -> String {
+    match error {
+        DecodeError::UnexpectedEnd { .. } => "the payload ends inside this field".into(),
+        DecodeError::LimitExceeded => "declares more bytes than a payload may hold".into(),
+        DecodeError::Utf8 { .. } | DecodeError::InvalidCharEncoding(_) => {
+            "text that is not UTF-8".into()
+        }
+        DecodeError::UnexpectedVariant { .. } | DecodeError::InvalidBooleanValue(_) => {
+            "an invalid tag".into()
+        }
+        DecodeError::OutsideUsizeRange(_) | DecodeError::InvalidIntegerType { .. } => {
+            "a number out of range".into()
+        }
+        _ => "malformed".into(),
+    }
+}
+
+/// The payload's structure, which must use every byte; strings and blobs
+/// are borrowed from `payload`.
+pub fn decode_wire(payload: &[u8]) -> Result<WireSession<'_>, SessionFileError> {
+    let mut f = Fields { rest: payload };
+    // Fields are evaluated in the order written, which is the order on disk.
+    let wire = WireSession {
+        device: f.next("device")?,
+        frame_rate: f.next("frame_rate")?,
+        vertex_count: f.next("topology.vertex_count")?,
+        triangles: f.next("topology.triangles")?,
+        template_neutral: f.next("template.neutral")?,
+        template_shapes: f.next("template.shapes")?,
+        neutral: f.next("neutral")?,
+        frames: WireFrames {
+            count: f.next("frames.count")?,
+            timestamps: f.next("frames.timestamps")?,
+            flags: f.next("frames.flags")?,
+            weights: f.next("frames.weights")?,
+            vertices: f.next("frames.vertices")?,
+        },
+        captures: f.next("captures")?,
+        tests: f.next("tests")?,
+        truth: f.next("truth")?,
+    };
+    if !f.rest.is_empty() {
+        let reason = format!("{} unexpected bytes after the session", f.rest.len());
+        return Err(SessionFileError::corrupt("payload", reason));
+    }
+    Ok(wire)
 }

@@ -3,7 +3,7 @@
 
 use super::*;
 use crate::io::obj_reader::ObjError;
-use crate::io::text_file::FileError;
+use crate::io::{Excerpt, FileError};
 
 /// What can go wrong reading or writing an interchange folder. Every error
 /// names the file, and the 1-based line and column where there is one.
@@ -63,7 +63,7 @@ pub enum InterchangeError {
         found: usize,
     },
     /// A cell that must be a finite number is not (includes NaN and ±inf).
-    #[error("{}:{line}: column {column} ({name}): {value:?} is not a finite number", path.display())]
+    #[error("{}:{line}: column {column} ({name}): {value} is not a finite number", path.display())]
     NotANumber {
         /// The CSV file.
         path: PathBuf,
@@ -73,8 +73,8 @@ pub enum InterchangeError {
         column: usize,
         /// The column's header.
         name: String,
-        /// The cell.
-        value: String,
+        /// The cell, quoted.
+        value: Excerpt,
     },
     /// A weight lies outside `[0, 1]` by more than [`WEIGHT_TOLERANCE`].
     #[error(
@@ -94,7 +94,7 @@ pub enum InterchangeError {
         value: f32,
     },
     /// A header names the same column twice.
-    #[error("{}:{line}: column {column}: duplicate column {name:?} (first at column {first})", path.display())]
+    #[error("{}:{line}: column {column}: duplicate column {name} (first at column {first})", path.display())]
     DuplicateColumn {
         /// The CSV file.
         path: PathBuf,
@@ -102,13 +102,13 @@ pub enum InterchangeError {
         line: usize,
         /// 1-based column of the repeat.
         column: usize,
-        /// The header cell.
-        name: String,
+        /// The header cell, quoted.
+        name: Excerpt,
         /// 1-based column of the first occurrence.
         first: usize,
     },
     /// A header cell is neither the key column nor an ARKit name.
-    #[error("{}:{line}: column {column}: unknown column {name:?}", path.display())]
+    #[error("{}:{line}: column {column}: unknown column {name}", path.display())]
     UnknownColumn {
         /// The CSV file.
         path: PathBuf,
@@ -116,8 +116,8 @@ pub enum InterchangeError {
         line: usize,
         /// 1-based column.
         column: usize,
-        /// The header cell.
-        name: String,
+        /// The header cell, quoted.
+        name: Excerpt,
     },
     /// A required column is absent (or the file has no header at all).
     #[error("{}: missing column {name}", path.display())]
@@ -140,23 +140,34 @@ pub enum InterchangeError {
         /// What is wrong.
         message: String,
     },
+    /// A table has more than [`MAX_ROWS`](super::weights_csv::MAX_ROWS)
+    /// data rows.
+    #[error("{}:{line}: more than the limit of {limit} rows (ten minutes at 60 fps)", path.display())]
+    TooManyRows {
+        /// The CSV file.
+        path: PathBuf,
+        /// 1-based line of the first row past the limit.
+        line: usize,
+        /// The most rows accepted.
+        limit: usize,
+    },
     /// A row names an expression whose OBJ file does not exist.
-    #[error("{}:{line}: {key:?} has no mesh: {} is missing", path.display(), mesh.display())]
+    #[error("{}:{line}: {key} has no mesh: {} is missing", path.display(), mesh.display())]
     NoMesh {
         /// The CSV file.
         path: PathBuf,
         /// 1-based line.
         line: usize,
-        /// The prompt or id.
-        key: String,
+        /// The prompt or id, quoted.
+        key: Excerpt,
         /// The expected OBJ file.
         mesh: PathBuf,
     },
     /// A test id cannot be written as a file name or CSV cell.
     #[error(
-        "test expression id {0:?} cannot be a file name (empty, `.`, `..`, or contains `/`, `\\`, `,` or a line break)"
+        "test expression id {0} cannot be a file name (empty, `.`, `..`, or contains `/`, `\\`, `,` or a line break)"
     )]
-    BadId(String),
+    BadId(Excerpt),
     /// The imported session, or the one to export, is not valid.
     #[error("{}: {source}", path.display())]
     Session {
@@ -182,9 +193,4 @@ impl From<ObjError> for InterchangeError {
             },
         }
     }
-}
-
-/// Reads a whole text file; a missing file is [`FileError::Missing`].
-pub(crate) fn read_text(path: &Path) -> Result<String, InterchangeError> {
-    Ok(crate::io::text_file::read_text(path)?)
 }

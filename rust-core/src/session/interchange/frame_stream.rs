@@ -3,11 +3,17 @@
 
 use super::*;
 use crate::session::Frame;
+use crate::session::file::MAX_DURATION_SECONDS;
+
+/// Most digits in one part of a Live Link timecode: nine digits keep every
+/// value exact in an `f64` and finite (a 309-digit hour is infinite).
+const MAX_TIMECODE_DIGITS: usize = 9;
 
 /// Reads a weight stream: a Live Link Face CSV export (`Timecode`,
 /// `BlendshapeCount`, the 52 capitalized names; head and eye rotation
 /// columns are ignored) or `timestamp,<52 names>`. Frames carry no mesh and
-/// count as tracked; times start at 0 s.
+/// count as tracked; times start at 0 s. A stream longer than
+/// [`MAX_DURATION_SECONDS`] is refused at the first row past it.
 pub fn read_frames(path: &Path) -> Result<Vec<Frame>, InterchangeError> {
     let table = read_weight_table(path, &["timestamp", "timecode"])?;
     let live_link = table.key_name.eq_ignore_ascii_case("timecode");
@@ -22,10 +28,11 @@ pub fn read_frames(path: &Path) -> Result<Vec<Frame>, InterchangeError> {
         let mut parsed = Vec::with_capacity(table.rows.len());
         for row in &table.rows {
             parsed.push(parse_timecode(&row.key).ok_or_else(|| {
-                key_error(
-                    row,
-                    format!("{:?} is not a timecode HH:MM:SS:FF[.fff]", row.key),
-                )
+                let message = format!(
+                    "{} is not a timecode HH:MM:SS:FF[.fff] (at most {MAX_TIMECODE_DIGITS} digits a part)",
+                    Excerpt::of(&row.key)
+                );
+                key_error(row, message)
             })?);
         }
         let max_frame = parsed.iter().map(|t| t.1).fold(0.0, f64::max);
@@ -43,21 +50,27 @@ pub fn read_frames(path: &Path) -> Result<Vec<Frame>, InterchangeError> {
                 .ok()
                 .filter(|t| t.is_finite())
                 .ok_or_else(|| {
-                    key_error(
-                        row,
-                        format!("timestamp {:?} is not a finite number", row.key),
-                    )
+                    let message =
+                        format!("timestamp {} is not a finite number", Excerpt::of(&row.key));
+                    key_error(row, message)
                 })?;
             times.push(t);
         }
     }
     let mut frames = Vec::with_capacity(times.len());
+    let first = times.first().copied().unwrap_or(0.0);
     for (k, (row, t)) in table.rows.iter().zip(times).enumerate() {
         if k > 0 && t < frames.last().map(|f: &Frame| f.timestamp).unwrap_or(t) {
             return Err(key_error(
                 row,
                 format!("time {t} s is earlier than the row before"),
             ));
+        }
+        if t - first > MAX_DURATION_SECONDS {
+            let message = format!(
+                "time {t} s is more than the limit of {MAX_DURATION_SECONDS} s (ten minutes) after the first row"
+            );
+            return Err(key_error(row, message));
         }
         frames.push(Frame {
             timestamp: t,
@@ -76,7 +89,8 @@ pub(super) fn parse_timecode(text: &str) -> Option<(f64, f64)> {
         return None;
     };
     let int = |x: &str| -> Option<f64> {
-        (!x.is_empty() && x.bytes().all(|b| b.is_ascii_digit())).then(|| x.parse().ok())?
+        let digits = !x.is_empty() && x.len() <= MAX_TIMECODE_DIGITS;
+        (digits && x.bytes().all(|b| b.is_ascii_digit())).then(|| x.parse().ok())?
     };
     let (h, m, s) = (int(h)?, int(m)?, int(s)?);
     if m >= 60.0 || s >= 61.0 {

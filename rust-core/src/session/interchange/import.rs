@@ -48,7 +48,7 @@ fn read_template(
     warnings: &mut Vec<String>,
 ) -> Result<(Topology, Template), InterchangeError> {
     let template_neutral_path = template_dir.join("neutral.obj");
-    let template_mesh = read_obj(&template_neutral_path)?;
+    let template_mesh = read_storable_obj(&template_neutral_path)?;
     let topology =
         Topology::new(template_mesh.positions.len(), template_mesh.triangles).map_err(|e| {
             InterchangeError::Topology {
@@ -57,10 +57,10 @@ fn read_template(
             }
         })?;
     let template_neutral = template_mesh.positions;
-    let template_stems = obj_stems(template_dir)?;
+    let template_files = obj_files(template_dir)?;
     let mut shapes = Vec::with_capacity(Blendshape::ALL.len());
     for shape in Blendshape::ALL {
-        match shape_obj(template_dir, &template_stems, shape) {
+        match shape_obj(template_dir, &template_files, shape) {
             Some(path) => shapes.push(read_mesh(&path, &topology)?),
             None => {
                 warnings.push(format!(
@@ -89,18 +89,17 @@ fn key_error(csv: &Path, row: &WeightRow, message: String) -> InterchangeError {
     }
 }
 
-/// Warns about each OBJ in `dir` that no row of `csv` uses.
+/// Warns about each OBJ in the folder that no row of `csv` uses.
 fn warn_unused(
-    dir: &Path,
     csv: &Path,
-    stems: &[String],
+    files: &[ObjFile],
     used: impl Fn(&str) -> bool,
     warnings: &mut Vec<String>,
 ) {
-    for stem in stems.iter().filter(|s| !used(s)) {
+    for file in files.iter().filter(|f| !used(&f.stem)) {
         warnings.push(format!(
             "{}: no row in {}; ignored",
-            dir.join(format!("{stem}.obj")).display(),
+            file.path.display(),
             csv.display()
         ));
     }
@@ -115,12 +114,17 @@ fn read_captures(
 ) -> Result<Vec<CapturedExpression>, InterchangeError> {
     let expr_csv = expr_dir.join("weights.csv");
     let table = read_weight_table(&expr_csv, &["prompt"])?;
-    let expr_stems = obj_stems(expr_dir)?;
+    let expr_files = obj_files(expr_dir)?;
     let mut captures: Vec<CapturedExpression> = Vec::with_capacity(table.rows.len());
     let mut capture_lines = Vec::with_capacity(table.rows.len());
     for row in &table.rows {
-        let prompt =
-            Blendshape::parse(&row.key).map_err(|e| key_error(&expr_csv, row, e.to_string()))?;
+        let prompt = Blendshape::parse(&row.key).map_err(|_| {
+            let message = format!(
+                "{} is not one of ARKit's 52 names in any known spelling",
+                Excerpt::of(&row.key)
+            );
+            key_error(&expr_csv, row, message)
+        })?;
         if let Some((_, first)) = captures
             .iter()
             .zip(&capture_lines)
@@ -130,10 +134,10 @@ fn read_captures(
             return Err(key_error(&expr_csv, row, message));
         }
         let mesh =
-            shape_obj(expr_dir, &expr_stems, prompt).ok_or_else(|| InterchangeError::NoMesh {
+            shape_obj(expr_dir, &expr_files, prompt).ok_or_else(|| InterchangeError::NoMesh {
                 path: expr_csv.clone(),
                 line: row.line,
-                key: row.key.clone(),
+                key: Excerpt::of(&row.key),
                 mesh: expr_dir.join(format!("{}.obj", prompt.name())),
             })?;
         captures.push(CapturedExpression {
@@ -146,7 +150,7 @@ fn read_captures(
     }
     let used =
         |stem: &str| Blendshape::parse(stem).is_ok_and(|s| captures.iter().any(|c| c.prompt == s));
-    warn_unused(expr_dir, &expr_csv, &expr_stems, used, warnings);
+    warn_unused(&expr_csv, &expr_files, used, warnings);
     Ok(captures)
 }
 
@@ -158,28 +162,31 @@ fn read_tests(
     warnings: &mut Vec<String>,
 ) -> Result<Vec<TestExpression>, InterchangeError> {
     let test_csv = test_dir.join("weights.csv");
-    let test_stems = obj_stems(test_dir)?;
+    let test_files = obj_files(test_dir)?;
     let mut tests: Vec<TestExpression> = Vec::new();
-    if !test_csv.exists() && test_stems.is_empty() {
+    if !test_csv.exists() && test_files.is_empty() {
         return Ok(tests);
     }
     let table = read_weight_table(&test_csv, &["id"])?;
     let mut lines = Vec::new();
     for row in &table.rows {
         if let Some((_, first)) = tests.iter().zip(&lines).find(|(t, _)| t.id == row.key) {
-            let message = format!("id {:?} appears twice (first on line {first})", row.key);
+            let message = format!(
+                "id {} appears twice (first on line {first})",
+                Excerpt::of(&row.key)
+            );
             return Err(key_error(&test_csv, row, message));
         }
         check_id(&row.key).map_err(|e| key_error(&test_csv, row, e.to_string()))?;
-        let mesh = test_dir.join(format!("{}.obj", row.key));
-        if !mesh.is_file() {
+        let Some(file) = test_files.iter().find(|f| f.stem == row.key) else {
             return Err(InterchangeError::NoMesh {
                 path: test_csv.clone(),
                 line: row.line,
-                key: row.key.clone(),
-                mesh,
+                key: Excerpt::of(&row.key),
+                mesh: test_dir.join(format!("{}.obj", row.key)),
             });
-        }
+        };
+        let mesh = file.path.clone();
         tests.push(TestExpression {
             id: row.key.clone(),
             frame: None,
@@ -189,6 +196,6 @@ fn read_tests(
         lines.push(row.line);
     }
     let used = |stem: &str| tests.iter().any(|t| t.id == stem);
-    warn_unused(test_dir, &test_csv, &test_stems, used, warnings);
+    warn_unused(&test_csv, &test_files, used, warnings);
     Ok(tests)
 }

@@ -38,6 +38,18 @@
 //! session's frame rate is one over the median spacing of the timestamps
 //! (60 Hz with fewer than two distinct timestamps).
 //!
+//! # Limits
+//!
+//! Every file is opened only if it is a regular file (not a directory, a
+//! FIFO or a device) and read one line at a time. An OBJ may hold
+//! [`OBJ_LIMITS`] (a session's 16,384 vertices, and the file size, line
+//! length and triangle count that follow); a CSV [`CSV_LIMITS`] (64 MiB,
+//! lines of 16 KiB) and [`MAX_ROWS`] rows, each row turned into its weights
+//! as it is read; a stream at most ten minutes
+//! ([`MAX_DURATION_SECONDS`](crate::session::file::MAX_DURATION_SECONDS)).
+//! A coordinate a session file cannot store (beyond ±100 m) is refused at
+//! its OBJ line, and a bad cell is quoted by at most 40 characters.
+//!
 //! # What a round trip keeps
 //!
 //! [`export_folder`] followed by [`import_folder`] keeps the topology, the
@@ -67,7 +79,6 @@ mod import;
 pub mod weights_csv;
 
 pub use error::InterchangeError;
-use error::read_text;
 pub use export::export_folder;
 use frame_stream::frame_rate;
 #[cfg(test)]
@@ -75,14 +86,18 @@ use frame_stream::parse_timecode;
 pub use frame_stream::read_frames;
 pub use import::import_folder;
 
-pub use crate::io::obj_reader::{ObjMesh, read_obj};
-pub use weights_csv::{WEIGHT_TOLERANCE, WeightRow, WeightTable, read_weight_table};
+pub use crate::io::obj_reader::{ObjLimits, ObjMesh, read_obj};
+pub use weights_csv::{
+    CSV_LIMITS, MAX_ROWS, WEIGHT_TOLERANCE, WeightRow, WeightTable, read_weight_table,
+};
 
 use crate::arkit::Blendshape;
 use crate::geometry::topology::Topology;
+use crate::io::Excerpt;
+pub use crate::io::FileError;
 use crate::io::atomic_write::write_atomically;
 use crate::io::obj_writer::write_obj;
-pub use crate::io::text_file::FileError;
+use crate::session::file::{MAX_Q, QUANTUM, quantize};
 use crate::session::{
     CapturedExpression, DeviceInfo, Session, SessionError, SessionParts, Template, TestExpression,
 };
@@ -96,6 +111,13 @@ pub const DEFAULT_FRAME_RATE: f32 = 60.0;
 /// Device model of an imported session.
 pub const IMPORTED_MODEL: &str = "imported";
 
+/// What one OBJ of the folder may hold: as many vertices as a session
+/// ([`MAX_VERTICES`](crate::session::file::MAX_VERTICES)); the file size,
+/// line length and triangle count follow ([`ObjLimits`]).
+pub const OBJ_LIMITS: ObjLimits = ObjLimits {
+    max_vertices: crate::session::file::MAX_VERTICES,
+};
+
 pub(super) fn io_error(path: &Path) -> impl FnOnce(io::Error) -> InterchangeError + '_ {
     move |source| {
         InterchangeError::File(FileError::Io {
@@ -105,9 +127,32 @@ pub(super) fn io_error(path: &Path) -> impl FnOnce(io::Error) -> InterchangeErro
     }
 }
 
+/// Reads an OBJ within [`OBJ_LIMITS`] whose every coordinate a session
+/// file can store (±100 m); one that cannot is blamed on its line.
+pub(super) fn read_storable_obj(path: &Path) -> Result<ObjMesh, InterchangeError> {
+    let mesh = read_obj(path, OBJ_LIMITS)?;
+    let unstorable = |p: &Vec3| p.to_array().into_iter().find(|&x| quantize(x).is_none());
+    let first = mesh
+        .positions
+        .iter()
+        .zip(&mesh.vertex_lines)
+        .find_map(|(p, &line)| unstorable(p).map(|x| (x, line)));
+    if let Some((x, line)) = first {
+        return Err(InterchangeError::Obj {
+            path: path.to_path_buf(),
+            line,
+            message: format!(
+                "coordinate {x} m is outside the range ±{:.0} m a session file can store",
+                MAX_Q as f64 * QUANTUM
+            ),
+        });
+    }
+    Ok(mesh)
+}
+
 /// Reads an OBJ and checks it against the template topology.
 pub(super) fn read_mesh(path: &Path, topology: &Topology) -> Result<Vec<Vec3>, InterchangeError> {
-    let mesh = read_obj(path)?;
+    let mesh = read_storable_obj(path)?;
     if mesh.positions.len() != topology.vertex_count() {
         return Err(InterchangeError::VertexCount {
             path: path.to_path_buf(),
@@ -148,14 +193,25 @@ pub(super) fn read_mesh(path: &Path, topology: &Topology) -> Result<Vec<Vec3>, I
     Ok(mesh.positions)
 }
 
-/// The `*.obj` file stems in `dir` (empty if `dir` does not exist).
-pub(super) fn obj_stems(dir: &Path) -> Result<Vec<String>, InterchangeError> {
+/// An OBJ file found in a folder: its stem and its path as spelled on
+/// disk (`.obj` in any case).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub(super) struct ObjFile {
+    /// The file name without its extension.
+    pub stem: String,
+    /// The file.
+    pub path: PathBuf,
+}
+
+/// The `*.obj` files in `dir`, the extension in any case, sorted by stem
+/// (empty if `dir` does not exist).
+pub(super) fn obj_files(dir: &Path) -> Result<Vec<ObjFile>, InterchangeError> {
     let entries = match std::fs::read_dir(dir) {
         Ok(e) => e,
         Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(Vec::new()),
         Err(e) => return Err(io_error(dir)(e)),
     };
-    let mut stems = Vec::new();
+    let mut files = Vec::new();
     for entry in entries {
         let path = entry.map_err(io_error(dir))?.path();
         if path
@@ -163,25 +219,31 @@ pub(super) fn obj_stems(dir: &Path) -> Result<Vec<String>, InterchangeError> {
             .is_some_and(|e| e.eq_ignore_ascii_case("obj"))
         {
             if let Some(stem) = path.file_stem().and_then(|s| s.to_str()) {
-                stems.push(stem.to_string());
+                let stem = stem.to_string();
+                files.push(ObjFile { stem, path });
             }
         }
     }
-    stems.sort();
-    Ok(stems)
+    files.sort_by(|a, b| a.stem.cmp(&b.stem));
+    Ok(files)
 }
 
 /// Finds the OBJ in `dir` for `shape` under any accepted spelling, ARKit's
 /// own first.
-pub(super) fn shape_obj(dir: &Path, stems: &[String], shape: Blendshape) -> Option<PathBuf> {
+pub(super) fn shape_obj(dir: &Path, files: &[ObjFile], shape: Blendshape) -> Option<PathBuf> {
     let own = dir.join(format!("{}.obj", shape.name()));
     if own.is_file() {
         return Some(own);
     }
-    stems
+    files
         .iter()
-        .find(|s| Blendshape::parse(s) == Ok(shape))
-        .map(|s| dir.join(format!("{s}.obj")))
+        .find(|f| f.stem == shape.name())
+        .or_else(|| {
+            files
+                .iter()
+                .find(|f| Blendshape::parse(&f.stem) == Ok(shape))
+        })
+        .map(|f| f.path.clone())
 }
 
 /// Whether a test id can be a file stem and a CSV cell.
@@ -192,7 +254,7 @@ pub(super) fn check_id(id: &str) -> Result<(), InterchangeError> {
         || id != id.trim()
         || id.contains(['/', '\\', ',', '\n', '\r']);
     if bad {
-        Err(InterchangeError::BadId(id.to_string()))
+        Err(InterchangeError::BadId(Excerpt::of(id)))
     } else {
         Ok(())
     }

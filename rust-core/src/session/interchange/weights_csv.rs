@@ -11,10 +11,31 @@
 //! appear exactly once. In a Live Link Face table (one with a `Timecode`
 //! column) the `BlendshapeCount` column and the nine head and eye rotation
 //! columns are ignored; any other unknown column is an error.
+//!
+//! A table is read one line at a time and each row becomes its 52 weights
+//! at once, within [`CSV_LIMITS`] (64 MiB, lines of 16 KiB) and
+//! [`MAX_ROWS`] rows.
 
 use super::InterchangeError;
 use crate::arkit::{BLENDSHAPE_COUNT, Blendshape, Weights};
+use crate::io::{Excerpt, TextLimits, TextLines, open_text};
+use crate::session::file::MAX_FRAMES;
+use std::io::BufRead;
 use std::path::Path;
+
+/// The size of a CSV file and of its lines: a row of a Live Link Face take
+/// is about 700 bytes (61 cells), so ten minutes at 60 fps is about 25 MB;
+/// 64 MiB and lines of 16 KiB (over 20 times a row) leave room for wider
+/// spellings.
+pub const CSV_LIMITS: TextLimits = TextLimits {
+    max_bytes: 64 << 20,
+    max_line: 16 << 10,
+    what: "a CSV file",
+};
+
+/// Most data rows in a table: a frame stream may have
+/// [`MAX_FRAMES`] (ten minutes at 60 fps); weight tables have far fewer.
+pub const MAX_ROWS: usize = MAX_FRAMES;
 
 /// How far outside `[0, 1]` a weight may lie and still be accepted: ARKit
 /// and Live Link Face occasionally report values a rounding error outside the
@@ -58,28 +79,15 @@ pub struct WeightTable {
     pub rows: Vec<WeightRow>,
 }
 
-/// Splits CSV text into `(1-based line, fields)`, skipping blank lines.
-pub fn parse_csv(text: &str) -> Vec<(usize, Vec<String>)> {
-    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    text.split('\n')
-        .enumerate()
-        .filter_map(|(i, line)| {
-            let line = line.strip_suffix('\r').unwrap_or(line);
-            (!line.trim().is_empty()).then(|| {
-                (
-                    i + 1,
-                    line.split(',').map(|f| f.trim().to_string()).collect(),
-                )
-            })
-        })
-        .collect()
+/// The fields of a CSV line, trimmed.
+fn fields(line: &str) -> impl Iterator<Item = &str> {
+    line.split(',').map(str::trim)
 }
 
 /// Reads the weight table at `path`, whose key column is one of `keys`
-/// (compared case-insensitively).
+/// (compared case-insensitively), one line at a time.
 pub fn read_weight_table(path: &Path, keys: &[&str]) -> Result<WeightTable, InterchangeError> {
-    let text = super::read_text(path)?;
-    parse_weight_table(path, &text, keys)
+    parse_lines(open_text(path, CSV_LIMITS)?, keys)
 }
 
 /// What the header says: where the key is and which shape each column holds.
@@ -97,25 +105,49 @@ struct Header {
     columns: Vec<Option<Blendshape>>,
 }
 
-/// Parses weight-table text; `path` only names the file in errors. The
-/// header first (`parse_header`), then each row against it
-/// (`parse_row`).
+/// Parses weight-table text; `path` only names the file in errors.
 pub fn parse_weight_table(
     path: &Path,
     text: &str,
     keys: &[&str],
 ) -> Result<WeightTable, InterchangeError> {
-    let mut lines = parse_csv(text).into_iter();
-    let Some((header_line, names)) = lines.next() else {
+    parse_lines(TextLines::new(text.as_bytes(), path, CSV_LIMITS), keys)
+}
+
+/// The header first (`parse_header`), then each row against it as it is
+/// read (`parse_row`); blank lines are skipped.
+fn parse_lines<R: BufRead>(
+    mut lines: TextLines<R>,
+    keys: &[&str],
+) -> Result<WeightTable, InterchangeError> {
+    let path = lines.path().to_path_buf();
+    let mut header = None;
+    let mut rows = Vec::new();
+    while let Some((line, text)) = lines.next_line()? {
+        if text.trim().is_empty() {
+            continue;
+        }
+        let Some(header) = &header else {
+            let names = fields(text).map(str::to_string).collect();
+            header = Some(parse_header(&path, line, names, keys)?);
+            continue;
+        };
+        if rows.len() == MAX_ROWS {
+            return Err(InterchangeError::TooManyRows {
+                path,
+                line,
+                limit: MAX_ROWS,
+            });
+        }
+        let cells: Vec<&str> = fields(text).collect();
+        rows.push(parse_row(&path, header, line, &cells)?);
+    }
+    let Some(header) = header else {
         return Err(InterchangeError::MissingColumn {
-            path: path.to_path_buf(),
+            path,
             name: keys.join(" or "),
         });
     };
-    let header = parse_header(path, header_line, names, keys)?;
-    let rows = lines
-        .map(|(line, fields)| parse_row(path, &header, line, &fields))
-        .collect::<Result<Vec<_>, _>>()?;
     Ok(WeightTable {
         key_name: header.names[header.key_column].clone(),
         rows,
@@ -145,7 +177,7 @@ fn parse_header(
                     path: file(),
                     line: header_line,
                     column,
-                    name: name.clone(),
+                    name: Excerpt::of(name),
                     first: first + 1,
                 });
             }
@@ -161,14 +193,14 @@ fn parse_header(
             path: file(),
             line: header_line,
             column,
-            name: name.clone(),
+            name: Excerpt::of(name),
         })?;
         if let Some(first) = first_seen[shape.index()] {
             return Err(InterchangeError::DuplicateColumn {
                 path: file(),
                 line: header_line,
                 column,
-                name: name.clone(),
+                name: Excerpt::of(name),
                 first,
             });
         }
@@ -203,7 +235,7 @@ fn parse_row(
     path: &Path,
     header: &Header,
     line: usize,
-    fields: &[String],
+    fields: &[&str],
 ) -> Result<WeightRow, InterchangeError> {
     if fields.len() != header.names.len() {
         return Err(InterchangeError::FieldCount {
@@ -225,7 +257,7 @@ fn parse_row(
                 line,
                 column: c + 1,
                 name: header.names[c].clone(),
-                value: cell.clone(),
+                value: Excerpt::of(cell),
             })?;
         if !(-WEIGHT_TOLERANCE..=1.0 + WEIGHT_TOLERANCE).contains(&value) {
             return Err(InterchangeError::WeightRange {
@@ -241,7 +273,7 @@ fn parse_row(
     Ok(WeightRow {
         line,
         key_column: header.key_column + 1,
-        key: fields[header.key_column].clone(),
+        key: fields[header.key_column].to_string(),
         weights,
     })
 }

@@ -1,7 +1,7 @@
 //! Truncated, damaged, hostile and random files: always an error naming
 //! what is wrong, never a panic, never an allocation of a declared size.
 
-use super::super::wire::{WireSession, bincode_config};
+use super::super::wire::{FRAME_HAS_VERTICES, FRAME_TRACKED, WireSession, bincode_config};
 use super::super::*;
 use super::small_session;
 use crate::arkit::{Blendshape, Weights};
@@ -392,4 +392,97 @@ fn mutated_compressed_streams_with_valid_checksums_never_panic() {
         bytes[28..32].copy_from_slice(&crc.to_le_bytes());
         let _ = decode(&bytes);
     }
+}
+
+#[test]
+fn payloads_past_the_limits_are_refused_naming_the_limit() {
+    let p = payload_of(&small_session());
+    let flags = vec![FRAME_TRACKED | FRAME_HAS_VERTICES; 3_000];
+    let cases = [
+        (
+            "frames.count",
+            Limit::Frames,
+            edited(&p, |w| w.frames.count = MAX_FRAMES as u32 + 1),
+        ),
+        (
+            "topology.vertex_count",
+            Limit::Vertices,
+            edited(&p, |w| w.vertex_count = MAX_VERTICES as u32 + 1),
+        ),
+        (
+            // 3,000 meshes of 16,384 vertices: 49 M vertices, 590 MB decoded.
+            "meshes",
+            Limit::DecodedVertices,
+            edited(&p, |w| {
+                w.vertex_count = MAX_VERTICES as u32;
+                w.frames.count = 3_000;
+                w.frames.flags = &flags;
+            }),
+        ),
+    ];
+    for (field, limit, bytes) in cases {
+        let (result, largest) = largest_allocation(|| decode(&bytes));
+        match result {
+            Err(SessionFileError::TooLarge {
+                field: f, limit: l, ..
+            }) => assert_eq!((f.as_str(), l), (field, limit)),
+            other => panic!("{field}: {other:?}"),
+        }
+        assert!(largest < 1 << 20, "{field}: allocated {largest} bytes");
+    }
+}
+
+#[test]
+fn sessions_past_the_limits_are_neither_written_nor_read() {
+    let mut parts = small_session().into_parts();
+    let last = parts.frames.len() - 1;
+    parts.frames[last].timestamp = 700.0;
+    let long = Session::new(parts).unwrap();
+    let err = encode(&long).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            SessionFileError::TooLarge {
+                limit: Limit::Duration,
+                ..
+            }
+        ),
+        "{err}"
+    );
+    // Written past the check, it is refused on reading, naming the field.
+    let err = decode(&seal(&payload_of(&long)).unwrap()).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "frames.timestamps is 700 s, over the limit MAX_DURATION_SECONDS = 600 s (ten minutes)"
+    );
+}
+
+#[test]
+fn a_payload_that_ends_early_is_blamed_on_its_field_in_our_words() {
+    let p = payload_of(&small_session());
+    let (wire, _): (WireSession<'_>, usize) =
+        bincode::serde::borrow_decode_from_slice(&p, bincode_config()).unwrap();
+    // Cut inside the frame stream's weights.
+    let offset = wire.frames.weights.as_ptr() as usize - p.as_ptr() as usize;
+    let err = decode(&seal(&p[..offset + 10]).unwrap()).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "corrupt session file: frames.weights: the payload ends inside this field"
+    );
+    // A DEFLATE stream cut short, resealed with a valid checksum.
+    let bytes = encode(&small_session()).unwrap();
+    let mut cut = bytes[..bytes.len() - 20].to_vec();
+    let compressed_len = (cut.len() - HEADER_LEN) as u64;
+    cut[12..20].copy_from_slice(&compressed_len.to_le_bytes());
+    let mut h = crc32fast::Hasher::new();
+    h.update(&cut[..28]);
+    h.update(&cut[HEADER_LEN..]);
+    let crc = h.finalize();
+    cut[28..32].copy_from_slice(&crc.to_le_bytes());
+    let message = decode(&cut).unwrap_err().to_string();
+    assert!(
+        message.contains("payload: the compressed payload"),
+        "{message}"
+    );
+    assert!(!message.contains("Failed"), "{message}");
 }

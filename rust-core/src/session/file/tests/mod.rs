@@ -225,7 +225,10 @@ fn files_are_written_atomically_and_read_back() {
     assert_eq!(read(&path).unwrap(), quantized(&session));
     std::fs::remove_dir_all(&dir).unwrap();
     let err = read(&path).unwrap_err();
-    assert!(matches!(err, SessionFileError::Io { .. }));
+    assert!(matches!(
+        err,
+        SessionFileError::File(FileError::Missing { .. })
+    ));
     assert!(err.to_string().contains("s.likeness"), "{err}");
 }
 

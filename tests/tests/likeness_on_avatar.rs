@@ -11,14 +11,12 @@
 //! a corner) and the lip contour (within 4 mm of a lip row), where the
 //! paper says the differences are.
 
+mod implanted_subject;
+
 use glam::DVec3;
 use likeness::avatar::likeness_check::{
     AnimationShapes, face_vertices_near, likeness_on_avatar, summarize,
 };
-use likeness::avatar::partial_transfer::implant;
-use likeness::avatar::registration::find_face;
-use likeness::avatar::retargeting::retarget;
-use likeness::personalize::{Method, personalize};
 use likeness_sim::default_avatar::default_avatar;
 use likeness_sim::face_mask::face_mask;
 
@@ -30,23 +28,14 @@ fn personalized_beats_automatic_beats_manual_retargeting() {
     let mut totals = [[0.0f64; 6]; 3]; // method × (face rmse, max, corners rmse, max, lips rmse, max)
     let mut count = 0.0;
     for subject in 1..=4 {
-        let session =
-            likeness::session::file::read(likeness_tests::committed::path(subject)).expect("reads");
+        let implanted_subject::Subject {
+            session,
+            found,
+            retargeting,
+            implanted,
+            ..
+        } = implanted_subject::implanted_subject(subject);
         assert!(session.truth.is_some(), "simulated");
-        let person = personalize(&session, Method::DEFAULT)
-            .expect("personalizes")
-            .shapes;
-        let rig = session.template.blendshapes().expect("a template");
-        let found = find_face(avatar, &session.topology, &rig).expect("a face");
-        let retargeting = retarget(avatar, &found, &person).expect("solves");
-        let implanted = implant(
-            avatar,
-            &found,
-            &retargeting,
-            &person,
-            session.topology.triangles(),
-        )
-        .expect("implants");
         let shapes = AnimationShapes::new(avatar, &retargeting, implanted.shapes);
         // The mouth corners and the lip contour, as face vertices.
         let template: Vec<DVec3> = session

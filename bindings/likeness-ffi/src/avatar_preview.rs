@@ -2,13 +2,11 @@
 //! preview): the core's [`AvatarPose`] over an avatar GLB.
 
 use crate::error::LikenessError;
+use crate::personalized::GIVEN_AVATAR;
 use crate::types::flat;
 use likeness::avatar::avatar_pose::AvatarPose;
 use likeness::avatar::glb::read_avatar_bytes;
 use std::sync::Arc;
-
-/// The name a previewed avatar goes by in messages.
-const PREVIEWED_AVATAR: &str = "avatar.glb";
 
 /// The centre and radius of what a preview should show.
 #[derive(Clone, Debug, PartialEq, uniffi::Record)]
@@ -35,7 +33,7 @@ impl AvatarPreview {
     /// Reads `glb`; its ARKit-named morph targets are what `pose` drives.
     #[uniffi::constructor]
     pub fn new(glb: Vec<u8>) -> Result<Arc<Self>, LikenessError> {
-        let avatar = read_avatar_bytes(&glb, PREVIEWED_AVATAR)?;
+        let avatar = read_avatar_bytes(&glb, GIVEN_AVATAR)?;
         Ok(Arc::new(AvatarPreview {
             pose: AvatarPose::new(&avatar.avatar),
         }))

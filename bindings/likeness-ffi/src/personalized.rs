@@ -20,8 +20,8 @@ use std::sync::Arc;
 /// map (as `likeness avatar` names it).
 const DEFAULT_AVATAR: &str = "default avatar";
 
-/// The name an avatar given as bytes goes by.
-const GIVEN_AVATAR: &str = "avatar.glb";
+/// The name an avatar given as bytes goes by in messages.
+pub(crate) const GIVEN_AVATAR: &str = "avatar.glb";
 
 /// A session's personalized blendshapes, with what the avatar step needs.
 #[derive(uniffi::Object)]

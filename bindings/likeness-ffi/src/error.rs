@@ -112,6 +112,7 @@ impl From<RecorderError> for LikenessError {
             | RecorderError::Frame(_)
             | RecorderError::Capture(_)
             | RecorderError::TooManyFrames(_)
+            | RecorderError::TooLong { .. }
             | RecorderError::NoSuchStep { .. }
             | RecorderError::NoPreview(_) => LikenessError::InvalidInput { message: text },
         }

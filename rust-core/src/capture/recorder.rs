@@ -20,7 +20,7 @@ use super::guided_capture::{
 };
 use super::prompt_order::PROMPT_ORDER;
 use crate::geometry::topology::Topology;
-use crate::session::file::MAX_FRAMES;
+use crate::session::file::{MAX_DURATION_SECONDS, MAX_FRAMES};
 use crate::session::{
     CapturedExpression, DeviceInfo, Frame, Session, SessionError, SessionParts, Template,
     TestExpression,
@@ -82,6 +82,17 @@ pub enum RecorderError {
     /// More frames than a session file holds.
     #[error("frame {0}: a capture holds at most {MAX_FRAMES} frames")]
     TooManyFrames(usize),
+    /// A frame more than [`MAX_DURATION_SECONDS`] after the first: the
+    /// session could not be saved.
+    #[error(
+        "frame {frame}: {seconds:.1} s after the first frame, past the {MAX_DURATION_SECONDS} s a capture may last"
+    )]
+    TooLong {
+        /// The frame's index in the stream.
+        frame: usize,
+        /// Its time after the first frame.
+        seconds: f64,
+    },
     /// A step index past the last step.
     #[error("there is no step {index}: the capture has {total} (0 is the neutral scan)")]
     NoSuchStep {
@@ -190,11 +201,22 @@ impl Recorder {
     }
 
     /// Checks and feeds the next frame (starting the capture if needed).
-    /// On error nothing is recorded.
+    /// On error nothing is recorded. A capture is refused past the limits
+    /// a session file holds ([`MAX_FRAMES`], [`MAX_DURATION_SECONDS`]) as
+    /// it passes them, so that whatever was recorded can be saved.
     pub fn push(&mut self, frame: Frame) -> Result<Vec<RecorderEvent>, RecorderError> {
         let index = self.stream.len();
         if index >= MAX_FRAMES {
             return Err(RecorderError::TooManyFrames(index));
+        }
+        if let Some(first) = self.stream.first() {
+            let seconds = frame.timestamp - first.timestamp;
+            if seconds > MAX_DURATION_SECONDS {
+                return Err(RecorderError::TooLong {
+                    frame: index,
+                    seconds,
+                });
+            }
         }
         let what = format!("frame {index}");
         if let Some((shape, value)) = frame.weights.iter().find(|(_, w)| !w.is_finite()) {

@@ -5,7 +5,10 @@
 //! A directory, a FIFO (which would block until someone writes to it), a
 //! device such as `/dev/zero` (endless) or a socket is refused from its
 //! metadata before it is opened, and once more from the opened file's own
-//! metadata (the path may have been replaced in between). Every reader
+//! metadata (the path may have been replaced in between). On Unix the file
+//! is opened with `O_NONBLOCK`, so that even a FIFO swapped in between the
+//! two checks cannot block the open; the flag changes nothing for a
+//! regular file, whose reads never block (POSIX `open(2)`). Every reader
 //! returned is a [`Read::take`] of one byte over the limit, so a file that
 //! grows, or lies about its size, still cannot be read past the limit.
 
@@ -58,6 +61,23 @@ fn check_regular(path: &Path, metadata: &Metadata) -> Result<(), FileError> {
     }
 }
 
+/// Opens `path` for reading without blocking (`O_NONBLOCK` on Unix), and
+/// refuses it unless the opened file is a regular one; returns the file
+/// and its metadata.
+fn open_regular(path: &Path) -> Result<(File, Metadata), FileError> {
+    let mut options = std::fs::OpenOptions::new();
+    options.read(true);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        options.custom_flags(libc::O_NONBLOCK);
+    }
+    let file = options.open(path).map_err(|e| FileError::io(path, e))?;
+    let metadata = file.metadata().map_err(|e| FileError::io(path, e))?;
+    check_regular(path, &metadata)?;
+    Ok((file, metadata))
+}
+
 /// Opens the regular file at `path` if it holds at most `limit` bytes
 /// (`what` names the kind of file in the error).
 pub fn open_bounded(path: &Path, limit: u64, what: &'static str) -> Result<BoundedFile, FileError> {
@@ -72,9 +92,7 @@ pub fn open_bounded(path: &Path, limit: u64, what: &'static str) -> Result<Bound
     if metadata.len() > limit {
         return Err(too_large(metadata.len()));
     }
-    let file = File::open(path).map_err(|e| FileError::io(path, e))?;
-    let metadata = file.metadata().map_err(|e| FileError::io(path, e))?;
-    check_regular(path, &metadata)?;
+    let (file, metadata) = open_regular(path)?;
     if metadata.len() > limit {
         return Err(too_large(metadata.len()));
     }
@@ -155,6 +173,25 @@ mod tests {
         ));
         #[cfg(unix)]
         {
+            // A FIFO that passed the check on the path (it was swapped in
+            // after it) is refused by the open itself, without blocking
+            // for a writer that never comes.
+            let fifo = scratch("swapped-fifo");
+            let _ = std::fs::remove_file(&fifo);
+            let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+            assert!(made.is_ok_and(|s| s.success()), "mkfifo");
+            let (sender, receiver) = std::sync::mpsc::channel();
+            let path = fifo.clone();
+            std::thread::spawn(move || sender.send(open_regular(&path).map(|_| ())));
+            let err = receiver
+                .recv_timeout(std::time::Duration::from_secs(10))
+                .expect("opening a FIFO blocked")
+                .unwrap_err();
+            assert!(
+                matches!(err, FileError::NotAFile { kind: "a FIFO", .. }),
+                "{err}"
+            );
+            let _ = std::fs::remove_file(&fifo);
             let err = read_bounded(Path::new("/dev/zero"), 10, "a test file").unwrap_err();
             assert!(
                 matches!(

@@ -23,7 +23,10 @@
 //! ([`LambdaRule::Evidence`]) and held-out stream frames
 //! ([`LambdaRule::Holdout`], the former rule, which needs stream meshes)
 //! are kept for comparison (`sim-data/examples/lambda_study.rs`): on the
-//! simulated subjects both end farther from the best λ than GCV.
+//! simulated subjects both end farther from the best λ than GCV. Robust
+//! GCV (Lukas 2006), the one-standard-error rule and per-vertex
+//! log-pooled GCV were measured too and are not kept (README, "Choosing
+//! λ from the captures alone").
 //! Leave-one-capture-out would be biased: without capture `i` the shape `i`
 //! is identified almost only by the regularizer, which favours a large λ.
 //!

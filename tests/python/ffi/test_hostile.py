@@ -100,6 +100,13 @@ def test_time_going_backwards_or_not_finite_is_refused(ffi, capture, template):
     capture.push_frame(1.0, ZEROS, [], True)  # the same time again is fine
 
 
+def test_a_capture_past_ten_minutes_is_refused_as_it_passes(ffi, capture):
+    capture.push_frame(100.0, ZEROS, [], True)
+    capture.push_frame(700.0, ZEROS, [], True)  # exactly ten minutes: the last
+    with pytest.raises(ffi.LikenessError.InvalidInput, match="frame 2: 600.5 s after the first"):
+        capture.push_frame(700.5, ZEROS, [], True)
+
+
 def test_templates_that_do_not_fit_are_refused(ffi, template):
     cases = [
         (dict(shapes=template.shapes[:51]), "51 blendshapes, expected 52"),

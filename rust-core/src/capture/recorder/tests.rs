@@ -156,6 +156,19 @@ fn bad_frames_are_refused_naming_the_field_and_record_nothing() {
     ));
     assert_eq!(r.stream.len(), 1);
     assert_eq!(r.capture.frames_seen(), 1);
+    // Ten minutes after the first frame is the last a session file holds.
+    let mut last = frame(1, Weights::ZERO, None);
+    last.timestamp = UPTIME + MAX_DURATION_SECONDS;
+    r.push(last).unwrap();
+    let mut past = frame(2, Weights::ZERO, None);
+    past.timestamp = UPTIME + MAX_DURATION_SECONDS + 0.5;
+    let e = r.push(past).unwrap_err();
+    assert!(
+        matches!(e, RecorderError::TooLong { frame: 2, seconds } if seconds == MAX_DURATION_SECONDS + 0.5),
+        "{e:?}"
+    );
+    assert!(e.to_string().starts_with("frame 2: 600.5 s after"), "{e}");
+    assert_eq!(r.stream.len(), 2);
 }
 
 #[test]

@@ -208,7 +208,7 @@ impl Run<'_> {
             Op::Frame => self.hostile_frame(u),
             Op::Gesture => {
                 let n = 8 + byte(u) as usize / 4;
-                let packed = n % 2 == 0;
+                let packed = n.is_multiple_of(2);
                 self.gesture(n, packed);
             }
             Op::Skip => self.with(|c| c.skip().map(drop)),

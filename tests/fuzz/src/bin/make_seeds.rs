@@ -67,7 +67,11 @@ fn session_seeds(out: &Path, name: &str, session: &Session, work: &Path) {
     put(&out.join("session_deflate"), name, &deflate);
     let _ = std::fs::remove_dir_all(work);
     export_folder(session, work).expect("export");
-    put(&out.join("folder_import"), name, &folder::pack(work));
+    // The whole folder of a real-sized session is 9 MB: only its minimal
+    // form below is a seed.
+    if session.topology.vertex_count() < 100 {
+        put(&out.join("folder_import"), name, &folder::pack(work));
+    }
     let read = |p: &str| std::fs::read(work.join(p)).expect("exported file");
     put(
         &out.join("obj"),

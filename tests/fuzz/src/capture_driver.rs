@@ -186,6 +186,9 @@ fn checked<T>(result: Result<T, LikenessError>) -> Option<T> {
                 "internal error: {e}"
             );
             check_message(&e);
+            if std::env::var_os("LIKENESS_FUZZ_TRACE").is_some() {
+                eprintln!("capture_ffi: {e}");
+            }
             None
         }
     }

@@ -62,9 +62,11 @@ summary="$LOGS/summary.md"
     IFS=: read -r name _ _ <<<"$spec"
     log="$LOGS/$name.log"
     [ -f "$log" ] || continue
-    crashes=$(find "$FUZZ_DIR/artifacts/$name" -type f \
+    crashes=$(find "$FUZZ_DIR/artifacts/$name" -type f 2>/dev/null \
       \( -name 'crash-*' -o -name 'oom-*' -o -name 'timeout-*' -o -name 'leak-*' \) | wc -l)
-    echo "| $name | $(final_stat "$log" number_of_executed_units) | $(final_stat "$log" average_exec_per_sec) | $(final_stat "$log" peak_rss_mb) | $(cat "$LOGS/$name.seconds") | $crashes | $(cat "$LOGS/$name.rc") |"
+    seconds=$(cat "$LOGS/$name.seconds" 2>/dev/null || echo -)
+    rc=$(cat "$LOGS/$name.rc" 2>/dev/null || echo -)
+    echo "| $name | $(final_stat "$log" number_of_executed_units) | $(final_stat "$log" average_exec_per_sec) | $(final_stat "$log" peak_rss_mb) | $seconds | $crashes | $rc |"
   done
 } >"$summary"
 cat "$summary"

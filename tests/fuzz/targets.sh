@@ -32,7 +32,13 @@ TARGET_SPECS=(
 
 FUZZ_DIR="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 ROOT="$(cd "$FUZZ_DIR/../.." && pwd)"
-BIN="$FUZZ_DIR/target/x86_64-unknown-linux-gnu/release"
+# Where cargo puts the targets: tests/fuzz/target, or CARGO_TARGET_DIR
+# when that is set; in the folder of the host's triple (cargo fuzz builds
+# with --target).
+TARGET_DIR="$(cargo metadata --format-version 1 --no-deps \
+  --manifest-path "$FUZZ_DIR/Cargo.toml" |
+  python3 -c 'import json, sys; print(json.load(sys.stdin)["target_directory"])')"
+BIN="$TARGET_DIR/$(rustc -vV | sed -n 's/^host: //p')/release"
 # cargo-fuzz passes -Zsanitizer and friends, nightly flags: this makes the
 # stable toolchain accept them.
 export RUSTC_BOOTSTRAP=1

@@ -12,7 +12,9 @@ const MAX_TIMECODE_DIGITS: usize = 9;
 /// Reads a weight stream: a Live Link Face CSV export (`Timecode`,
 /// `BlendshapeCount`, the 52 capitalized names; head and eye rotation
 /// columns are ignored) or `timestamp,<52 names>`. Frames carry no mesh and
-/// count as tracked; times start at 0 s. A stream longer than
+/// count as tracked. Live Link timecodes become seconds after the first
+/// row (which is at 0 s); `timestamp` values are kept as written, in
+/// seconds, and must not go back. A stream longer than
 /// [`MAX_DURATION_SECONDS`] is refused at the first row past it.
 pub fn read_frames(path: &Path) -> Result<Vec<Frame>, InterchangeError> {
     let table = read_weight_table(path, &["timestamp", "timecode"])?;

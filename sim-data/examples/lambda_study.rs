@@ -6,6 +6,7 @@
 //! ```text
 //! cargo run --release -p likeness-sim --example lambda_study               # committed subjects 1–4
 //! cargo run --release -p likeness-sim --example lambda_study -- 100 119    # fresh seeds 100–119
+//! cargo run --release -p likeness-sim --example lambda_study -- 300 319 --sittings 4
 //! ```
 //!
 //! For each subject and form it prints the λ `paper-cv` chose (by GCV;
@@ -21,9 +22,22 @@
 //! meshes only), and for `multi` with its λ (against the same oracle of the
 //! captures-only fit, and against the oracle of its own fit, `m/own`),
 //! then a summary per form.
+//!
+//! Two columns ask what any rule that sees only the captures could do.
+//! `capt` is the ratio for the *capture oracle*: the λ whose fit is truest
+//! at the captures themselves (least mean RMSE of `B₀ + Σ w_j B_j`, at each
+//! capture's tracked weights, against the simulator's noise-free face of
+//! that capture). GCV, Mallows' Cp and every cross-validation of the
+//! captures estimate that error, so a rule that sees only the captures can
+//! at best choose this λ. With `--sittings K` (simulated subjects), the
+//! same person is simulated on K other sittings
+//! ([`SimulationOptions::performance`]) and `new` is the chosen λ's RMSE on
+//! their test expressions against the best λ on them, `o→new` the same for
+//! the λ that was best on the session's own tests: whether the oracle is a
+//! property of the person or of the 20–30 test expressions drawn.
 
 use likeness::Session;
-use likeness::personalize::evaluation::{evaluate, mean_errors};
+use likeness::personalize::evaluation::{evaluate, mean_errors, mesh_error};
 use likeness::personalize::lambda_selection::LambdaRule;
 use likeness::personalize::personalization::{lambda_fit, lambda_sweep};
 use likeness::personalize::{FitFrames, Method, personalize};
@@ -59,7 +73,43 @@ struct Row {
     multi_ratio: f64,
     multi_lambda: f64,
     multi_own: f64,
+    capture_ratio: f64,
+    new_sittings: Option<(f64, f64)>,
     ms: f64,
+}
+
+/// Mean truth RMSE (mm) of `shapes` at the captures of `reference`: each
+/// capture's tracked weights against the noise-free face of that capture.
+fn capture_error(shapes: &likeness::Blendshapes, reference: &Session) -> f64 {
+    let truth = reference
+        .truth
+        .as_ref()
+        .expect("simulated sessions carry their truth");
+    let errors: Vec<f64> = reference
+        .captures
+        .iter()
+        .zip(&truth.captures)
+        .map(|(c, face)| mesh_error(&shapes.reconstruct(&c.weights), face).rmse_mm)
+        .collect();
+    errors.iter().sum::<f64>() / errors.len().max(1) as f64
+}
+
+/// Mean truth RMSE (mm) of `shapes` over the test expressions of all
+/// `sittings`.
+fn sittings_error(shapes: &likeness::Blendshapes, sittings: &[Session]) -> f64 {
+    let errors: Vec<f64> = sittings
+        .iter()
+        .flat_map(|s| evaluate(shapes, s))
+        .filter_map(|e| e.truth_rmse_mm)
+        .collect();
+    errors.iter().sum::<f64>() / errors.len().max(1) as f64
+}
+
+/// The index of the least value.
+fn argmin(values: &[f64]) -> usize {
+    (0..values.len())
+        .min_by(|a, b| values[*a].total_cmp(&values[*b]))
+        .unwrap_or(0)
 }
 
 /// The fine grid of the oracle: ten points per decade, 10⁻⁸ … 10¹.
@@ -69,7 +119,13 @@ fn oracle_grid() -> Vec<f64> {
         .collect()
 }
 
-fn study(subject: &str, form: &'static str, session: &Session, reference: &Session) -> Row {
+fn study(
+    subject: &str,
+    form: &'static str,
+    session: &Session,
+    reference: &Session,
+    sittings: &[Session],
+) -> Row {
     let started = Instant::now();
     let chosen = personalize(session, Method::PaperCv).expect("personalizes");
     let ms = started.elapsed().as_secs_f64() * 1e3;
@@ -81,6 +137,27 @@ fn study(subject: &str, form: &'static str, session: &Session, reference: &Sessi
         .map(|f| (f.lambda, truth_errors(&f.shapes, reference)))
         .min_by(|a, b| a.1.0.total_cmp(&b.1.0))
         .expect("a grid");
+    let at_captures: Vec<f64> = sweep
+        .iter()
+        .map(|f| capture_error(&f.shapes, reference))
+        .collect();
+    let capture_oracle = &sweep[argmin(&at_captures)].shapes;
+    let capture_ratio = truth_errors(capture_oracle, reference).0 / oracle_err.0;
+    let new_sittings = (!sittings.is_empty()).then(|| {
+        let on_new: Vec<f64> = sweep
+            .iter()
+            .map(|f| sittings_error(&f.shapes, sittings))
+            .collect();
+        let best_new = on_new[argmin(&on_new)];
+        let own_best = sweep
+            .iter()
+            .position(|f| f.lambda == oracle)
+            .map_or(f64::NAN, |i| on_new[i]);
+        (
+            sittings_error(&chosen.shapes, sittings) / best_new,
+            own_best / best_new,
+        )
+    });
     let ratio_of = |rule: LambdaRule| {
         let (c, shapes) = lambda_fit(session, FitFrames::Captures, rule).expect("fits");
         (c.rule != LambdaRule::Fixed).then(|| truth_errors(&shapes, reference).0 / oracle_err.0)
@@ -108,6 +185,8 @@ fn study(subject: &str, form: &'static str, session: &Session, reference: &Sessi
         multi_ratio,
         multi_lambda: multi.lambda.unwrap_or(f64::NAN),
         multi_own: multi_rmse / multi_oracle,
+        capture_ratio,
+        new_sittings,
         ms,
     }
 }
@@ -127,7 +206,7 @@ fn round_trip(session: &Session, name: &str) -> Session {
 fn print_row(r: &Row) {
     let f = |x: Option<f64>| x.map_or("-".to_string(), |x| format!("{x:.3}"));
     println!(
-        "{:<10} {:<8} {:>9.2e}{} {:>6.3} {:>6.3} {:>9.2e} {:>6.3} {:>6.3} {:>6.3} | {:>6} {:>6} {:>6} {:>9.2e} {:>6.3} {:>6.0}",
+        "{:<10} {:<8} {:>9.2e}{} {:>6.3} {:>6.3} {:>9.2e} {:>6.3} {:>6.3} {:>6.3} | {:>6} {:>6} {:>6} {:>9.2e} {:>6.3} | {:>6.3} {:>6} {:>6} | {:>6.0}",
         r.subject,
         r.form,
         r.chosen,
@@ -143,6 +222,9 @@ fn print_row(r: &Row) {
         f(Some(r.multi_ratio)),
         r.multi_lambda,
         r.multi_own,
+        r.capture_ratio,
+        f(r.new_sittings.map(|n| n.0)),
+        f(r.new_sittings.map(|n| n.1)),
         r.ms,
     );
 }
@@ -160,6 +242,16 @@ fn summary(rows: &[Row], form: &str) {
     let median = ratios[ratios.len() / 2];
     let worst = ratios[ratios.len() - 1];
     let within = ratios.iter().filter(|r| **r <= 1.05).count();
+    let count = |f: &dyn Fn(&Row) -> Option<f64>| {
+        rows.iter()
+            .filter(|r| r.form == form)
+            .filter_map(f)
+            .filter(|x| *x <= 1.05)
+            .count()
+    };
+    let capture_within = count(&|r| Some(r.capture_ratio));
+    let new_within = count(&|r| r.new_sittings.map(|n| n.0));
+    let transfer_within = count(&|r| r.new_sittings.map(|n| n.1));
     let bounds = rows.iter().filter(|r| r.form == form && r.at_bound).count();
     let mean = |f: &dyn Fn(&Row) -> f64| {
         rows.iter().filter(|r| r.form == form).map(f).sum::<f64>() / ratios.len() as f64
@@ -167,6 +259,9 @@ fn summary(rows: &[Row], form: &str) {
     println!(
         "{form}: {} subjects, chosen/oracle RMSE median {median:.4}, worst {worst:.4}, {within} within 5%, {bounds} at a bound",
         ratios.len()
+    );
+    println!(
+        "{form}: within 5% of the oracle: the capture oracle on {capture_within}; on new sittings, the chosen λ on {new_within} and the own-tests oracle on {transfer_within}"
     );
     for r in rows.iter().filter(|r| r.form == form) {
         let ratio = r.chosen_err.0 / r.oracle_err.0;
@@ -185,37 +280,45 @@ fn summary(rows: &[Row], form: &str) {
 }
 
 fn main() {
-    let args: Vec<u64> = std::env::args()
-        .skip(1)
+    let mut args: Vec<String> = std::env::args().skip(1).collect();
+    let mut sittings = 0u64;
+    if let Some(i) = args.iter().position(|a| a == "--sittings") {
+        sittings = args
+            .get(i + 1)
+            .and_then(|k| k.parse().ok())
+            .expect("--sittings K");
+        args.drain(i..i + 2);
+    }
+    let args: Vec<u64> = args
+        .iter()
         .map(|a| a.parse().expect("a seed number"))
         .collect();
-    let subjects: Vec<(String, Session)> = match args.as_slice() {
+    let simulate = |seed: u64, performance: Option<u64>| {
+        let options = SimulationOptions {
+            geometry_window: Some(SAMPLE_GEOMETRY_WINDOW),
+            performance,
+            ..SimulationOptions::default()
+        };
+        simulate_session_with(seed, options, &mut |_, _| {})
+    };
+    let subjects: Vec<(String, Session, u64)> = match args.as_slice() {
         [] => (1..=4)
             .map(|i| {
                 let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
                     .join(format!("sessions/subject-{i}.likeness"));
-                (
-                    format!("subject-{i}"),
-                    likeness::session::file::read(&path).expect("the committed session reads"),
-                )
+                let session =
+                    likeness::session::file::read(&path).expect("the committed session reads");
+                let seed = session.truth.as_ref().map_or(i, |t| t.seed);
+                (format!("subject-{i}"), session, seed)
             })
             .collect(),
         [first, last] => (*first..=*last)
-            .map(|seed| {
-                let options = SimulationOptions {
-                    geometry_window: Some(SAMPLE_GEOMETRY_WINDOW),
-                    ..SimulationOptions::default()
-                };
-                (
-                    format!("seed-{seed}"),
-                    simulate_session_with(seed, options, &mut |_, _| {}),
-                )
-            })
+            .map(|seed| (format!("seed-{seed}"), simulate(seed, None), seed))
             .collect(),
-        _ => panic!("usage: lambda_study [FIRST LAST]"),
+        _ => panic!("usage: lambda_study [FIRST LAST] [--sittings K]"),
     };
     println!(
-        "{:<10} {:<8} {:>10} {:>6} {:>6} {:>9} {:>6} {:>6} {:>6} | {:>6} {:>6} {:>6} {:>9} {:>6} {:>6}",
+        "{:<10} {:<8} {:>10} {:>6} {:>6} {:>9} {:>6} {:>6} {:>6} | {:>6} {:>6} {:>6} {:>9} {:>6} | {:>6} {:>6} {:>6} | {:>6}",
         "subject",
         "form",
         "chosen λ",
@@ -230,15 +333,23 @@ fn main() {
         "multi",
         "multi λ",
         "m/own",
+        "capt",
+        "new",
+        "o→new",
         "ms"
     );
     let mut rows = Vec::new();
-    for (name, session) in &subjects {
-        let row = study(name, "session", session, session);
+    for (name, session, seed) in &subjects {
+        // Other sittings of the same person (the committed subjects were
+        // simulated from their seed too).
+        let others: Vec<Session> = (1..=sittings)
+            .map(|k| simulate(*seed, Some(seed * 1000 + k)))
+            .collect();
+        let row = study(name, "session", session, session, &others);
         print_row(&row);
         rows.push(row);
         let imported = round_trip(session, name);
-        let row = study(name, "imported", &imported, session);
+        let row = study(name, "imported", &imported, session, &others);
         print_row(&row);
         rows.push(row);
     }

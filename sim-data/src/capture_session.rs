@@ -52,6 +52,13 @@ pub struct SimulationOptions {
     /// faces (a brow that rests low reads as browDown); 0, the default, for
     /// none. See [`crate::tracker::high_rest_offsets`].
     pub high_rest_groups: usize,
+    /// `None`: the subject's own session. `Some(p)`: the same person (face,
+    /// and the tracker's distortion of it) on another sitting: the
+    /// performance (attempts, test expressions) drawn from `p` and the
+    /// tracker's noise drawn afresh. A second sitting's test expressions
+    /// are independent evidence of how a person's fitted shapes generalize
+    /// (`examples/lambda_study.rs`).
+    pub performance: Option<u64>,
 }
 
 /// Simulates the full session of the subject drawn from `seed`, with every
@@ -69,9 +76,12 @@ pub fn simulate_session_with(
 ) -> Session {
     let mask = face_mask();
     let subject = Subject::from_seed(seed);
-    let timeline = perform_session(seed, FRAME_RATE);
-    let tracker = Tracker::new(seed, &mask.uv, FRAME_RATE)
+    let timeline = perform_session(options.performance.unwrap_or(seed), FRAME_RATE);
+    let mut tracker = Tracker::new(seed, &mask.uv, FRAME_RATE)
         .with_rest_offsets(high_rest_offsets(seed, options.high_rest_groups));
+    if let Some(performance) = options.performance {
+        tracker = tracker.with_noise_seed(performance);
+    }
     let Recording {
         mut frames,
         true_faces,

@@ -218,6 +218,22 @@ impl Tracker {
         self
     }
 
+    /// The same tracker (the person's distortion and noise fields) on
+    /// another sitting: its noise drawn afresh from `seed`.
+    pub fn with_noise_seed(mut self, seed: u64) -> Tracker {
+        self.rng = ChaCha8Rng::seed_from_u64(seed ^ 0x4e4f_4953_4500_0000); // "NOISE"
+        self.coefficients = {
+            let normal = Normal::new(0.0, 1.0).expect("unit normal");
+            (0..MESH_NOISE_FIELDS)
+                .map(|_| normal.sample(&mut self.rng))
+                .collect()
+        };
+        for _ in 0..NOISE_WARM_UP {
+            self.next_noise();
+        }
+        self
+    }
+
     /// The next frame's noise of every channel: white noise through two
     /// cascaded exponential filters of coefficient `β`
     /// ([`WEIGHT_NOISE_FILTER`]). Their impulse response is

@@ -99,6 +99,7 @@ fn people_who_rest_high_finish_the_neutral_scan_and_every_prompt() {
         let options = SimulationOptions {
             geometry_window: None,
             high_rest_groups: 3,
+            ..SimulationOptions::default()
         };
         let session = simulate_session_with(seed, options, &mut |_, _| {});
         let high: Vec<_> = likeness::Blendshape::ALL

@@ -97,12 +97,10 @@ fn capture_error(shapes: &likeness::Blendshapes, reference: &Session) -> f64 {
 /// Mean truth RMSE (mm) of `shapes` over the test expressions of all
 /// `sittings`.
 fn sittings_error(shapes: &likeness::Blendshapes, sittings: &[Session]) -> f64 {
-    let errors: Vec<f64> = sittings
-        .iter()
-        .flat_map(|s| evaluate(shapes, s))
-        .filter_map(|e| e.truth_rmse_mm)
-        .collect();
-    errors.iter().sum::<f64>() / errors.len().max(1) as f64
+    let errors: Vec<_> = sittings.iter().flat_map(|s| evaluate(shapes, s)).collect();
+    mean_errors(&errors)
+        .truth_rmse_mm
+        .expect("simulated sessions carry their truth")
 }
 
 /// The index of the least value.
@@ -132,30 +130,26 @@ fn study(
     let choice = chosen.lambda_choice.clone().expect("a fit reports its λ");
     let chosen_err = truth_errors(&chosen.shapes, reference);
     let sweep = lambda_sweep(session, FitFrames::Captures, &oracle_grid()).expect("fits");
-    let (oracle, oracle_err) = sweep
+    let on_tests: Vec<(f64, f64)> = sweep
         .iter()
-        .map(|f| (f.lambda, truth_errors(&f.shapes, reference)))
-        .min_by(|a, b| a.1.0.total_cmp(&b.1.0))
-        .expect("a grid");
+        .map(|f| truth_errors(&f.shapes, reference))
+        .collect();
+    let best = argmin(&on_tests.iter().map(|e| e.0).collect::<Vec<_>>());
+    let (oracle, oracle_err) = (sweep[best].lambda, on_tests[best]);
     let at_captures: Vec<f64> = sweep
         .iter()
         .map(|f| capture_error(&f.shapes, reference))
         .collect();
-    let capture_oracle = &sweep[argmin(&at_captures)].shapes;
-    let capture_ratio = truth_errors(capture_oracle, reference).0 / oracle_err.0;
+    let capture_ratio = on_tests[argmin(&at_captures)].0 / oracle_err.0;
     let new_sittings = (!sittings.is_empty()).then(|| {
         let on_new: Vec<f64> = sweep
             .iter()
             .map(|f| sittings_error(&f.shapes, sittings))
             .collect();
         let best_new = on_new[argmin(&on_new)];
-        let own_best = sweep
-            .iter()
-            .position(|f| f.lambda == oracle)
-            .map_or(f64::NAN, |i| on_new[i]);
         (
             sittings_error(&chosen.shapes, sittings) / best_new,
-            own_best / best_new,
+            on_new[best] / best_new,
         )
     });
     let ratio_of = |rule: LambdaRule| {

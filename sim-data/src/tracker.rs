@@ -188,25 +188,33 @@ impl Tracker {
             / uv.len() as f64;
         let s = rms / variance.sqrt();
         fields.iter_mut().flatten().for_each(|d| *d *= s);
-        let coefficients = (0..MESH_NOISE_FIELDS)
-            .map(|_| normal.sample(&mut rng))
-            .collect();
-        let mut tracker = Tracker {
+        Tracker {
             gain,
             bias,
             crosstalk,
             smoothed: None,
             noise: [[0.0; 2]; BLENDSHAPE_COUNT],
             fields,
-            coefficients,
+            coefficients: Vec::new(),
             rho: (-1.0 / (frame_rate * MESH_NOISE_TAU)).exp(),
-            rng,
-        };
-        // Run the noise filters into their stationary state.
-        for _ in 0..NOISE_WARM_UP {
-            tracker.next_noise();
+            rng: rng.clone(),
         }
-        tracker
+        .with_noise_from(rng)
+    }
+
+    /// The tracker's noise started from `rng`: the mesh noise's initial
+    /// coefficients drawn, and the weight noise's filters run into their
+    /// stationary state.
+    fn with_noise_from(mut self, rng: ChaCha8Rng) -> Tracker {
+        self.rng = rng;
+        let normal = Normal::new(0.0, 1.0).expect("unit normal");
+        self.coefficients = (0..MESH_NOISE_FIELDS)
+            .map(|_| normal.sample(&mut self.rng))
+            .collect();
+        for _ in 0..NOISE_WARM_UP {
+            self.next_noise();
+        }
+        self
     }
 
     /// The same tracker reporting each weight raised by `offsets` at rest
@@ -220,18 +228,8 @@ impl Tracker {
 
     /// The same tracker (the person's distortion and noise fields) on
     /// another sitting: its noise drawn afresh from `seed`.
-    pub fn with_noise_seed(mut self, seed: u64) -> Tracker {
-        self.rng = ChaCha8Rng::seed_from_u64(seed ^ 0x4e4f_4953_4500_0000); // "NOISE"
-        self.coefficients = {
-            let normal = Normal::new(0.0, 1.0).expect("unit normal");
-            (0..MESH_NOISE_FIELDS)
-                .map(|_| normal.sample(&mut self.rng))
-                .collect()
-        };
-        for _ in 0..NOISE_WARM_UP {
-            self.next_noise();
-        }
-        self
+    pub fn with_noise_seed(self, seed: u64) -> Tracker {
+        self.with_noise_from(ChaCha8Rng::seed_from_u64(seed ^ 0x4e4f_4953_4500_0000)) // "NOISE"
     }
 
     /// The next frame's noise of every channel: white noise through two

@@ -78,8 +78,10 @@ summary="$LOGS/summary.md"
   echo "|---|---:|---:|---:|---:|---:|---:|"
   for spec in "${TARGET_SPECS[@]}"; do
     IFS=: read -r name _ _ <<<"$spec"
-    logs=("$LOGS/$name".log "$LOGS/$name".w*.log)
-    logs=($(ls "${logs[@]}" 2>/dev/null || true))
+    logs=()
+    for log in "$LOGS/$name".log "$LOGS/$name".w*.log; do
+      [ -f "$log" ] && logs+=("$log")
+    done
     [ "${#logs[@]}" -gt 0 ] || continue
     crashes=$(find "$FUZZ_DIR/artifacts/$name" -type f 2>/dev/null \
       \( -name 'crash-*' -o -name 'oom-*' -o -name 'timeout-*' -o -name 'leak-*' \) | wc -l)

@@ -4,13 +4,15 @@
 //! automatic retargeting `A_j` of Eq. (4) instead.
 
 use crate::CliResult;
+use crate::avatar_preview::PreviewInput;
 use crate::info::read_session;
 use likeness::Session;
 use likeness::avatar::glb::{
     GlbAvatar, NewGlbOptions, new_avatar_glb, read_avatar, read_avatar_bytes,
 };
 use likeness::avatar::personal_avatar::{
-    AvatarShapes, AvatarStep, PersonInput, mask_glb, personal_avatar, retarget_map_json,
+    AvatarShapes, AvatarStep, PersonInput, PersonalAvatar, mask_glb, personal_avatar,
+    retarget_map_json,
 };
 use likeness::avatar::registration::cache;
 use likeness::avatar::registration::find_face::cache_key;
@@ -38,6 +40,8 @@ pub struct AvatarArgs {
     pub retargeted: bool,
     /// Write the personalized face mask alone.
     pub mask_only: bool,
+    /// Where to write the contact sheet, if asked.
+    pub preview: Option<PathBuf>,
     /// Print JSON instead of text.
     pub json: bool,
 }
@@ -74,6 +78,18 @@ struct Summary {
     out_bytes: u64,
     #[serde(skip_serializing_if = "Option::is_none")]
     retarget_map: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    preview: Option<PreviewSummary>,
+}
+
+/// What `--preview` wrote.
+#[derive(Serialize)]
+struct PreviewSummary {
+    dir: String,
+    files: usize,
+    bytes: usize,
+    sheet_width: u32,
+    sheet_height: u32,
 }
 
 #[derive(Serialize, Default)]
@@ -85,6 +101,7 @@ struct Timings {
     retargeting: f64,
     implant: f64,
     write: f64,
+    preview: f64,
 }
 
 /// The default avatar as GLB bytes.
@@ -199,6 +216,9 @@ fn default_cache_dir() -> PathBuf {
 /// Runs `likeness avatar`.
 pub fn avatar_command(args: &AvatarArgs) -> CliResult {
     let mut t = Timings::default();
+    if let Some(dir) = &args.preview {
+        crate::avatar_preview::check_dir(dir)?;
+    }
     let steps = crate::progress::bar("avatar", 5);
     let clock = Instant::now();
     let session = read_session(&args.session)?;
@@ -271,6 +291,25 @@ pub fn avatar_command(args: &AvatarArgs) -> CliResult {
         write_atomically(map, text.as_bytes()).map_err(|e| format!("{}: {e}", map.display()))?;
     }
     t.write = clock.elapsed().as_secs_f64() + step_seconds(AvatarStep::Writing);
+    let avatar_name = args
+        .avatar
+        .as_ref()
+        .map_or("default avatar".to_string(), |p| p.display().to_string());
+    let preview = match &args.preview {
+        Some(dir) => {
+            steps.set_message("preview");
+            let made = write_preview(&glb, &made, &avatar_name, args.retargeted, dir)?;
+            t.preview = made.seconds;
+            Some(PreviewSummary {
+                dir: dir.display().to_string(),
+                files: made.files,
+                bytes: made.bytes,
+                sheet_width: made.sheet_size.0,
+                sheet_height: made.sheet_size.1,
+            })
+        }
+        None => None,
+    };
     steps.finish_and_clear();
     for warning in &made.warnings {
         eprintln!("warning: {}: {warning}", glb.file.display());
@@ -281,10 +320,7 @@ pub fn avatar_command(args: &AvatarArgs) -> CliResult {
     let avatar = &glb.avatar;
     let (lo, hi) = retargeting.weight_range();
     let summary = Summary {
-        avatar: args
-            .avatar
-            .as_ref()
-            .map_or("default avatar".to_string(), |p| p.display().to_string()),
+        avatar: avatar_name,
         out: args.out.display().to_string(),
         shapes: if args.retargeted {
             "automatic retargeting (Eq. 4): the avatar's own blendshapes combined"
@@ -316,6 +352,7 @@ pub fn avatar_command(args: &AvatarArgs) -> CliResult {
         seconds: t,
         out_bytes: made.glb.len() as u64,
         retarget_map: args.retarget_map.as_ref().map(|p| p.display().to_string()),
+        preview,
     };
     if args.json {
         println!("{}", serde_json::to_string_pretty(&summary)?);
@@ -323,6 +360,51 @@ pub fn avatar_command(args: &AvatarArgs) -> CliResult {
         print_summary(&summary);
     }
     Ok(())
+}
+
+/// `--preview DIR`: the contact sheet of what `made` wrote into `glb`.
+fn write_preview(
+    glb: &GlbAvatar,
+    made: &PersonalAvatar,
+    avatar_name: &str,
+    retargeted: bool,
+    dir: &Path,
+) -> Result<crate::avatar_preview::Preview, Box<dyn std::error::Error>> {
+    let retargeted_shapes;
+    let (written, mouth_parts): (&[Vec<glam::Vec3>], Vec<usize>) = match &made.implanted {
+        Some(implanted) => (
+            &implanted.shapes,
+            implanted
+                .rigid_parts
+                .iter()
+                .copied()
+                .filter(|p| !made.registration.eyeball_parts.contains(p))
+                .collect(),
+        ),
+        None => {
+            retargeted_shapes = made.retargeting.displacements(&glb.avatar);
+            (&retargeted_shapes, Vec::new())
+        }
+    };
+    let input = PreviewInput {
+        avatar: &glb.avatar,
+        avatar_name,
+        registration: &made.registration,
+        found: &made.found,
+        written,
+        written_name: if retargeted {
+            "retargeted"
+        } else {
+            "personalized"
+        },
+        written_means: if retargeted {
+            "the automatic retargeting of Eq. (4), the avatar's own shapes combined"
+        } else {
+            "the person's shapes implanted by the seamless partial deformation transfer"
+        },
+        mouth_parts: &mouth_parts,
+    };
+    crate::avatar_preview::write_preview(&input, dir)
 }
 
 fn print_summary(s: &Summary) {
@@ -372,6 +454,17 @@ fn print_summary(s: &Summary) {
     if let Some(map) = &s.retarget_map {
         println!("Wrote the retarget map {map}");
     }
+    if let Some(p) = &s.preview {
+        println!(
+            "Wrote the preview {} ({} files, {:.1} MB; a {} × {} contact sheet): open {}",
+            p.dir,
+            p.files,
+            p.bytes as f64 / 1e6,
+            p.sheet_width,
+            p.sheet_height,
+            Path::new(&p.dir).join("index.html").display()
+        );
+    }
     let t = &s.seconds;
     println!(
         "Time: session {:.2} s, personalize ({}) {:.2} s, avatar {:.2} s, registration {:.2} s, retargeting {:.3} s, implant {:.2} s, write {:.2} s",
@@ -384,4 +477,7 @@ fn print_summary(s: &Summary) {
         t.implant,
         t.write
     );
+    if s.preview.is_some() {
+        println!("Preview: {:.2} s", t.preview);
+    }
 }

@@ -4,6 +4,7 @@
 //! Errors go to stderr with a non-zero exit status and never as a panic.
 
 mod avatar;
+mod avatar_preview;
 mod info;
 mod interchange;
 mod personalize;
@@ -124,8 +125,14 @@ enum Command {
         retargeted: bool,
         /// Write the person's personalized face mask alone (ARKit's mesh,
         /// their neutral and 52 shapes) instead of an avatar.
-        #[arg(long, conflicts_with_all = ["avatar", "retargeted", "retarget_map"])]
+        #[arg(long, conflicts_with_all = ["avatar", "retargeted", "retarget_map", "preview"])]
         mask_only: bool,
+        /// Also write a contact sheet into this folder (created if missing):
+        /// neutral and ten shapes, the avatar's own beside the written
+        /// ones, each as the face, the eyes and the mouth (PNG tiles,
+        /// contact-sheet.png, its legend, index.html).
+        #[arg(long, value_name = "DIR")]
+        preview: Option<PathBuf>,
         /// Print a JSON object instead of text.
         #[arg(long)]
         json: bool,
@@ -202,6 +209,7 @@ fn main() -> ExitCode {
             cache_dir,
             retargeted,
             mask_only,
+            preview,
             json,
         } => avatar::avatar_command(&avatar::AvatarArgs {
             session,
@@ -212,6 +220,7 @@ fn main() -> ExitCode {
             cache_dir,
             retargeted,
             mask_only,
+            preview,
             json,
         }),
         Command::Replay { file, json } => replay::replay_command(&file, json),

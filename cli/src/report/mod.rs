@@ -25,12 +25,12 @@ mod accuracy;
 mod avatar_check;
 mod capture;
 mod charts;
-mod colour_map;
+pub(crate) mod colour_map;
 mod error_maps;
-mod html;
-mod image;
+pub(crate) mod html;
+pub(crate) mod image;
 mod output;
-mod rasterizer;
+pub(crate) mod rasterizer;
 mod shape_grid;
 
 use crate::CliResult;

@@ -9,13 +9,14 @@
 //! |---|---|
 //! | where each view looks: the face region, the eyes (eyeBlink), the mouth (jawOpen) | [`framing`] |
 //! | the poses, the views, one tile drawn (the report's rasterizer, depth-darkened) | [`tiles`] |
-//! | the grid of tiles as one picture | [`sheet`] |
+//! | the grid of tiles as one picture, labelled | [`sheet`], [`font`] |
 //! | what each cell is: `contact-sheet.txt`, `index.html` | [`legend`] |
 //!
 //! The folder gets `contact-sheet.png`, `contact-sheet.txt`, `index.html`
 //! and `tiles/POSE-SET-VIEW.png`, each file written atomically (a
 //! temporary file renamed into place); other files in it are left alone.
 
+mod font;
 mod framing;
 mod legend;
 mod sheet;
@@ -166,9 +167,10 @@ pub fn write_preview(
     });
 
     // Every tile, drawn on as many threads as there are cores: one job per
-    // pose and set, three views each.
+    // pose and set, three views each (both sets at rest drawn once).
     let jobs: Vec<(usize, usize)> = (0..rows.len())
         .flat_map(|r| (0..2).map(move |s| (r, s)))
+        .filter(|&(r, s)| s == 0 || poses[r][1] != Some(None))
         .collect();
     let threads = std::thread::available_parallelism()
         .map_or(1, |n| n.get())
@@ -187,7 +189,8 @@ pub fn write_preview(
         });
         Ok([(a.0, a.1?), (b.0, b.1?), (c.0, c.1?)])
     };
-    let mut drawn: Vec<Option<[Tile; 3]>> = vec![None; jobs.len()];
+    // drawn[2 · row + set]
+    let mut drawn: Vec<Option<[Tile; 3]>> = vec![None; 2 * rows.len()];
     std::thread::scope(|scope| {
         let handles: Vec<_> = (0..threads)
             .map(|t| {
@@ -203,19 +206,22 @@ pub fn write_preview(
             .collect();
         for handle in handles {
             for (j, tiles) in handle.join().expect("a tile thread panicked") {
-                drawn[j] = Some(tiles?);
+                let (r, s) = jobs[j];
+                drawn[2 * r + s] = Some(tiles?);
             }
         }
         Ok::<(), png::EncodingError>(())
     })?;
     let tile = |r: usize, set: Set, view: View| -> &Tile {
-        let s = usize::from(set == Set::Written);
+        // Both sets at rest are one picture, drawn once.
+        let s = usize::from(set == Set::Written && poses[r][1] != Some(None));
         let v = View::ALL.iter().position(|x| *x == view).unwrap_or(0);
         &drawn[r * 2 + s].as_ref().expect("every tile drawn")[v]
     };
 
     let layout = Layout::new(&rows);
-    let sheet = contact_sheet(&layout, &|r, column| {
+    let set_name = |set: Set| legend::set_name(set, input.written_name).to_string();
+    let sheet = contact_sheet(&layout, &set_name, &|r, column| {
         tile(r, column.set, column.view).0.clone()
     });
     let has_own = |row: Row| match row {

@@ -243,7 +243,14 @@ mod tests {
     #[test]
     fn farther_is_darker_and_eyeballs_have_their_colour() {
         let rest = vec![DVec3::ZERO, DVec3::new(0.0, 0.0, 1.0), DVec3::X];
-        let scene = Scene::new(rest.clone(), vec![[0, 1, 2]], &[2..3], &[], &[0, 1]);
+        let eyeball = 2..3;
+        let scene = Scene::new(
+            rest.clone(),
+            vec![[0, 1, 2]],
+            std::slice::from_ref(&eyeball),
+            &[],
+            &[0, 1],
+        );
         let shaded = scene.depth_shaded(&rest);
         assert_eq!(shaded[1], SKIN);
         assert!(shaded[0][0] < shaded[1][0]);

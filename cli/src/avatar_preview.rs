@@ -7,7 +7,7 @@
 //!
 //! | what | module |
 //! |---|---|
-//! | where each view looks: the face region, the eyes (eyeBlink), the mouth (jawOpen) | [`framing`] |
+//! | where each view looks: the face region, the eyes (eyeBlink), the mouth (jawOpen) | [`framing`](mod@framing) |
 //! | the poses, the views, one tile drawn (the report's rasterizer, depth-darkened) | [`tiles`] |
 //! | the grid of tiles as one picture, labelled | [`sheet`], [`font`] |
 //! | what each cell is: `contact-sheet.txt`, `index.html` | [`legend`] |
@@ -180,7 +180,7 @@ pub fn write_preview(
             None => View::ALL.map(missing_tile),
             Some(d) => {
                 let posed = scene.posed(d.as_deref());
-                View::ALL.map(|v| scene.render(&posed, framing.of(v)))
+                View::ALL.map(|v| scene.render(&posed, framing.of(v), v != View::Front))
             }
         };
         let [a, b, c] = images.map(|image| {

@@ -220,3 +220,94 @@ fn mouth_bounds(input: &FramingInput<'_>, eyes: &(DVec2, DVec2)) -> Option<(DVec
         DVec2::new(centre + half, line + 0.1 * eye_width),
     ))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A flat face 14 cm square, vertices 5 mm apart.
+    fn grid() -> Vec<DVec3> {
+        (0..29)
+            .flat_map(|i| (0..29).map(move |j| (i, j)))
+            .map(|(i, j)| {
+                DVec3::new(
+                    -0.07 + 0.005 * f64::from(i),
+                    -0.07 + 0.005 * f64::from(j),
+                    0.0,
+                )
+            })
+            .collect()
+    }
+
+    #[test]
+    fn eyes_and_mouth_are_found_where_blink_and_jaw_move_the_skin() {
+        let rest = grid();
+        // The lids of two eyes at (±3 cm, 3 cm) close by 1 cm.
+        let blink: Vec<DVec3> = rest
+            .iter()
+            .map(|p| {
+                let lid = (p.x.abs() - 0.03).abs() <= 0.012 && (p.y - 0.03).abs() <= 0.0051;
+                if lid {
+                    DVec3::new(0.0, -0.01, 0.0)
+                } else {
+                    DVec3::ZERO
+                }
+            })
+            .collect();
+        // Everything below the mouth's line at y = −3 cm drops, more so lower.
+        let jaw: Vec<DVec3> = rest
+            .iter()
+            .map(|p| {
+                if p.y <= -0.0299 {
+                    DVec3::new(0.0, -(0.01 + 0.1 * (-0.03 - p.y)), 0.0)
+                } else {
+                    DVec3::ZERO
+                }
+            })
+            .collect();
+        let face: Vec<u32> = (0..rest.len() as u32).collect();
+        let skin = vec![true; rest.len()];
+        let f = framing(&FramingInput {
+            rest: &rest,
+            face: &face,
+            skin: &skin,
+            blinks: &[&blink],
+            jaw: &[&jaw],
+        });
+        assert!(f.front.centre.length() < 1e-9, "{:?}", f.front);
+        let [right, left] = f.eyes;
+        assert!((right.centre.x + 0.03).abs() < 0.002, "{right:?}");
+        assert!((left.centre.x - 0.03).abs() < 0.002, "{left:?}");
+        for eye in [right, left] {
+            assert!((eye.centre.y - 0.025).abs() < 0.003, "{eye:?}");
+            // The eye, not the face: a close-up.
+            assert!(eye.metres_per_pixel < f.front.metres_per_pixel / 2.0);
+        }
+        // The mouth's line, and the open jaw below it, are in view.
+        let m = f.mouth;
+        let half_height = f64::from(m.height) / 2.0 * m.metres_per_pixel;
+        assert!(m.centre.x.abs() < 1e-9, "{m:?}");
+        assert!(m.centre.y < -0.03 && m.centre.y > -0.05, "{m:?}");
+        assert!(m.centre.y + half_height > -0.025, "{m:?}");
+        assert!(m.centre.y - half_height < -0.05, "{m:?}");
+    }
+
+    #[test]
+    fn without_motion_the_eyes_sit_above_the_mouth() {
+        let rest = grid();
+        let face: Vec<u32> = (0..rest.len() as u32).collect();
+        let skin = vec![true; rest.len()];
+        let f = framing(&FramingInput {
+            rest: &rest,
+            face: &face,
+            skin: &skin,
+            blinks: &[],
+            jaw: &[],
+        });
+        assert!(f.eyes[0].centre.y > f.mouth.centre.y + 0.03, "{f:?}");
+        assert!(
+            f.eyes[0].centre.x < 0.0 && f.eyes[1].centre.x > 0.0,
+            "{f:?}"
+        );
+    }
+}

@@ -1,8 +1,9 @@
 //! One tile: the avatar in one pose (a shape at weight one, or at rest)
-//! seen through one view, flat-lit by the report's rasterizer with each
-//! vertex darkened by its depth, so that what lies behind (an eyeball
-//! under a lid, the inside of the mouth) reads darker than what lies in
-//! front, and a part pushed through another shows in its own colour.
+//! seen through one view, lit by the report's rasterizer with each vertex
+//! darkened by its depth (over the depth range the view shows), so that
+//! what lies behind (an eyeball under a lid, the inside of the mouth)
+//! reads darker than what lies in front, and a part pushed through
+//! another shows in its own colour.
 
 use crate::report::colour_map::{PALE, SKIN};
 use crate::report::image::Image;
@@ -116,6 +117,13 @@ pub const MOUTH_PARTS: [u8; 3] = PALE;
 /// darkened to this share of it.
 const FARTHEST: f64 = 0.55;
 
+/// In the close-ups, triangles wholly this many times the view's depth
+/// range behind the farthest face vertex it shows are not drawn: the back
+/// of the head and of the eyeballs, hidden behind the face, would
+/// otherwise cost most of the drawing. (The front view draws everything:
+/// the ears lie that far back.)
+const HIDDEN_BEHIND: f64 = 2.0;
+
 /// A tile for a shape the avatar lacks: light grey, crossed.
 pub fn missing_tile(view: View) -> Image {
     let (w, h) = view.size();
@@ -139,9 +147,9 @@ pub struct Scene {
     /// Each vertex's colour before shading: skin, [`EYEBALL`] or
     /// [`MOUTH_PARTS`].
     pub colours: Vec<[u8; 3]>,
-    /// The depth (z) of the face's farthest and nearest point at rest,
-    /// the range over which the depth shading runs.
-    pub depth: (f64, f64),
+    /// The face region's vertices, whose depth at rest sets the range of
+    /// the depth shading in each view.
+    pub face: Vec<u32>,
 }
 
 impl Scene {
@@ -162,19 +170,35 @@ impl Scene {
                 }
             }
         }
-        let (lo, hi) = face
-            .iter()
-            .filter_map(|&v| rest.get(v as usize))
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
-                (lo.min(p.z), hi.max(p.z))
-            });
-        let depth = if lo < hi { (lo, hi) } else { (-0.1, 0.1) };
         Scene {
             rest,
             triangles,
             colours,
-            depth,
+            face: face.to_vec(),
         }
+    }
+
+    /// The depth (z) of the farthest and nearest face vertex at rest that
+    /// `view` shows (of every face vertex if it shows none): the range over
+    /// which the depth shading runs, so that a close-up shades the relief
+    /// it shows rather than the whole face's.
+    fn depth_range(&self, view: &FrontView) -> (f64, f64) {
+        let half = glam::DVec2::new(f64::from(view.width), f64::from(view.height))
+            * (view.metres_per_pixel / 2.0);
+        let range = |inside: bool| {
+            self.face
+                .iter()
+                .filter_map(|&v| self.rest.get(v as usize))
+                .filter(|p| {
+                    !inside || ((p.truncate() - view.centre).abs() - half).max_element() <= 0.0
+                })
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                    (lo.min(p.z), hi.max(p.z))
+                })
+        };
+        let (lo, hi) = range(true);
+        let (lo, hi) = if lo < hi { (lo, hi) } else { range(false) };
+        if lo < hi { (lo, hi) } else { (-0.1, 0.1) }
     }
 
     /// The avatar moved by `displacement` (one per vertex; `None` for the
@@ -186,9 +210,9 @@ impl Scene {
         }
     }
 
-    /// The colours of `positions`, darkened by depth (module docs).
-    fn depth_shaded(&self, positions: &[DVec3]) -> Vec<[u8; 3]> {
-        let (far, near) = self.depth;
+    /// The colours of `positions`, darkened by depth from `far` to `near`
+    /// (module docs).
+    fn depth_shaded(&self, positions: &[DVec3], (far, near): (f64, f64)) -> Vec<[u8; 3]> {
         positions
             .iter()
             .zip(&self.colours)
@@ -201,17 +225,33 @@ impl Scene {
     }
 
     /// `positions` (a pose of this scene) as `views` show them, side by
-    /// side [`GAP`] pixels apart on white.
-    pub fn render(&self, positions: &[DVec3], views: &[FrontView]) -> Image {
-        let colours = self.depth_shaded(positions);
-        let mesh = [Mesh {
-            positions,
-            triangles: &self.triangles,
-            colours: &colours,
-        }];
+    /// side [`GAP`] pixels apart on white; `close` for a close-up (see
+    /// [`HIDDEN_BEHIND`]).
+    pub fn render(&self, positions: &[DVec3], views: &[FrontView], close: bool) -> Image {
         views
             .iter()
-            .map(|view| render(&mesh, view))
+            .map(|view| {
+                let (far, near) = self.depth_range(view);
+                let colours = self.depth_shaded(positions, (far, near));
+                let behind = if close {
+                    far - HIDDEN_BEHIND * (near - far)
+                } else {
+                    f64::NEG_INFINITY
+                };
+                let at = |v: u32| positions.get(v as usize).map_or(f64::INFINITY, |p| p.z);
+                let triangles: Vec<[u32; 3]> = self
+                    .triangles
+                    .iter()
+                    .filter(|t| t.iter().any(|&v| at(v) >= behind))
+                    .copied()
+                    .collect();
+                let mesh = Mesh {
+                    positions,
+                    triangles: &triangles,
+                    colours: &colours,
+                };
+                render(&[mesh], view)
+            })
             .reduce(|left, right| left.beside(&right, GAP, BACKGROUND))
             .unwrap_or_else(|| Image::filled(1, 1, BACKGROUND))
     }
@@ -251,7 +291,9 @@ mod tests {
             &[],
             &[0, 1],
         );
-        let shaded = scene.depth_shaded(&rest);
+        let view = FrontView::framing(&rest, 10, 10, 0.1);
+        assert_eq!(scene.depth_range(&view), (0.0, 1.0));
+        let shaded = scene.depth_shaded(&rest, (0.0, 1.0));
         assert_eq!(shaded[1], SKIN);
         assert!(shaded[0][0] < shaded[1][0]);
         assert_eq!(scene.colours[2], EYEBALL);

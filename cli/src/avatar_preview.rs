@@ -22,7 +22,7 @@ mod legend;
 mod sheet;
 mod tiles;
 
-use framing::{FramingInput, framing, points_in_mask_frame, vectors_in_mask_frame};
+use framing::{Framing, FramingInput, framing, points_in_mask_frame, vectors_in_mask_frame};
 use glam::{DVec3, Vec3};
 use legend::{About, tile_name};
 use likeness::Blendshape;
@@ -166,52 +166,7 @@ pub fn write_preview(
         jaw: &jaw,
     });
 
-    // Every tile, drawn on as many threads as there are cores: one job per
-    // pose and set, three views each (both sets at rest drawn once).
-    let jobs: Vec<(usize, usize)> = (0..rows.len())
-        .flat_map(|r| (0..2).map(move |s| (r, s)))
-        .filter(|&(r, s)| s == 0 || poses[r][1] != Some(None))
-        .collect();
-    let threads = std::thread::available_parallelism()
-        .map_or(1, |n| n.get())
-        .clamp(1, jobs.len().max(1));
-    let draw = |(r, s): (usize, usize)| -> Result<[Tile; 3], png::EncodingError> {
-        let images = match &poses[r][s] {
-            None => View::ALL.map(missing_tile),
-            Some(d) => {
-                let posed = scene.posed(d.as_deref());
-                View::ALL.map(|v| scene.render(&posed, framing.of(v), v != View::Front))
-            }
-        };
-        let [a, b, c] = images.map(|image| {
-            let png = image.png_compressed(COMPRESSION);
-            (image, png)
-        });
-        Ok([(a.0, a.1?), (b.0, b.1?), (c.0, c.1?)])
-    };
-    // drawn[2 · row + set]
-    let mut drawn: Vec<Option<[Tile; 3]>> = vec![None; 2 * rows.len()];
-    std::thread::scope(|scope| {
-        let handles: Vec<_> = (0..threads)
-            .map(|t| {
-                let jobs = &jobs;
-                let draw = &draw;
-                scope.spawn(move || {
-                    (t..jobs.len())
-                        .step_by(threads)
-                        .map(|j| (j, draw(jobs[j])))
-                        .collect::<Vec<_>>()
-                })
-            })
-            .collect();
-        for handle in handles {
-            for (j, tiles) in handle.join().expect("a tile thread panicked") {
-                let (r, s) = jobs[j];
-                drawn[2 * r + s] = Some(tiles?);
-            }
-        }
-        Ok::<(), png::EncodingError>(())
-    })?;
+    let drawn = draw_tiles(&scene, &framing, &poses)?;
     let tile = |r: usize, set: Set, view: View| -> &Tile {
         // Both sets at rest are one picture, drawn once.
         let s = usize::from(set == Set::Written && poses[r][1] != Some(None));
@@ -259,18 +214,77 @@ pub fn write_preview(
         legend::html(&layout, &about).into_bytes(),
     ));
 
-    let tiles_dir = dir.join("tiles");
-    std::fs::create_dir_all(&tiles_dir).map_err(|e| format!("{}: {e}", tiles_dir.display()))?;
-    for (name, bytes) in &files {
-        let path = dir.join(name);
-        write_atomically(&path, bytes).map_err(|e| format!("{}: {e}", path.display()))?;
-    }
+    write_files(dir, &files)?;
     Ok(Preview {
         files: files.len(),
         bytes: files.iter().map(|(_, b)| b.len()).sum(),
         sheet_size: layout.size,
         seconds: started.elapsed().as_secs_f64(),
     })
+}
+
+/// Every tile of `poses` (`poses[row][set]`) in every view, drawn and
+/// encoded on as many threads as there are cores, one job per pose and set
+/// (both sets at rest drawn once, as the own set): `drawn[2 · row + set]`.
+fn draw_tiles(
+    scene: &Scene,
+    framing: &Framing,
+    poses: &[[Pose; 2]],
+) -> Result<Vec<Option<[Tile; 3]>>, png::EncodingError> {
+    let jobs: Vec<(usize, usize)> = (0..poses.len())
+        .flat_map(|r| (0..2).map(move |s| (r, s)))
+        .filter(|&(r, s)| s == 0 || poses[r][1] != Some(None))
+        .collect();
+    let threads = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .clamp(1, jobs.len().max(1));
+    let draw = |(r, s): (usize, usize)| -> Result<[Tile; 3], png::EncodingError> {
+        let images = match &poses[r][s] {
+            None => View::ALL.map(missing_tile),
+            Some(d) => {
+                let posed = scene.posed(d.as_deref());
+                View::ALL.map(|v| scene.render(&posed, framing.of(v), v != View::Front))
+            }
+        };
+        let [a, b, c] = images.map(|image| {
+            let png = image.png_compressed(COMPRESSION);
+            (image, png)
+        });
+        Ok([(a.0, a.1?), (b.0, b.1?), (c.0, c.1?)])
+    };
+    let mut drawn: Vec<Option<[Tile; 3]>> = vec![None; 2 * poses.len()];
+    std::thread::scope(|scope| {
+        let handles: Vec<_> = (0..threads)
+            .map(|t| {
+                let (jobs, draw) = (&jobs, &draw);
+                scope.spawn(move || {
+                    (t..jobs.len())
+                        .step_by(threads)
+                        .map(|j| (j, draw(jobs[j])))
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        for handle in handles {
+            for (j, tiles) in handle.join().expect("a tile thread panicked") {
+                let (r, s) = jobs[j];
+                drawn[2 * r + s] = Some(tiles?);
+            }
+        }
+        Ok(drawn)
+    })
+}
+
+/// Writes `files` (names relative to `dir`) into `dir`, each atomically,
+/// creating `dir` and its `tiles/` folder if missing.
+fn write_files(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<(), String> {
+    let tiles_dir = dir.join("tiles");
+    std::fs::create_dir_all(&tiles_dir).map_err(|e| format!("{}: {e}", tiles_dir.display()))?;
+    for (name, bytes) in files {
+        let path = dir.join(name);
+        write_atomically(&path, bytes).map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    Ok(())
 }
 
 /// Each field as a slice.

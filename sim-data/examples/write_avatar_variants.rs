@@ -15,7 +15,11 @@ use std::time::Instant;
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let Some(out) = args.iter().find(|a| !a.starts_with("--")).map(PathBuf::from) else {
+    let Some(out) = args
+        .iter()
+        .find(|a| !a.starts_with("--"))
+        .map(PathBuf::from)
+    else {
         eprintln!("usage: write_avatar_variants OUTDIR [--png]");
         std::process::exit(2);
     };
@@ -23,7 +27,11 @@ fn main() {
     std::fs::create_dir_all(&out).expect("create OUTDIR");
     let start = Instant::now();
     let variants = avatar_variants();
-    println!("built {} variants in {:.2} s", variants.len(), start.elapsed().as_secs_f64());
+    println!(
+        "built {} variants in {:.2} s",
+        variants.len(),
+        start.elapsed().as_secs_f64()
+    );
     for v in &variants {
         let file = out.join(format!("{}.glb", v.name));
         std::fs::write(&file, &v.glb).expect("write GLB");

@@ -37,8 +37,12 @@ pub fn front_view_png(avatar: &GlbAvatar, to_y_up: impl Fn(Vec3) -> Vec3, width:
         let material = &json["meshes"][part.mesh]["primitives"][part.primitive]["material"];
         let colour = material
             .as_u64()
-            .and_then(|m| json["materials"][m as usize]["pbrMetallicRoughness"]["baseColorFactor"].as_array())
-            .map_or([0.6, 0.6, 0.6], |c| [0, 1, 2].map(|i| c[i].as_f64().unwrap_or(0.6) as f32));
+            .and_then(|m| {
+                json["materials"][m as usize]["pbrMetallicRoughness"]["baseColorFactor"].as_array()
+            })
+            .map_or([0.6, 0.6, 0.6], |c| {
+                [0, 1, 2].map(|i| c[i].as_f64().unwrap_or(0.6) as f32)
+            });
         for t in &part.triangles {
             let [a, b, c] = t.map(|i| world[i as usize]);
             let n = (b - a).cross(c - a).normalize_or_zero();
@@ -66,7 +70,8 @@ pub fn front_view_png(avatar: &GlbAvatar, to_y_up: impl Fn(Vec3) -> Vec3, width:
                     if z > depth[k] {
                         depth[k] = z;
                         for (i, c) in colour.iter().enumerate() {
-                            rgb[3 * k + i] = (255.0 * (c * shade).clamp(0.0, 1.0).powf(1.0 / 2.2)) as u8;
+                            rgb[3 * k + i] =
+                                (255.0 * (c * shade).clamp(0.0, 1.0).powf(1.0 / 2.2)) as u8;
                         }
                     }
                 }

@@ -43,8 +43,7 @@ pub fn hair() -> Mesh {
         .iter()
         .enumerate()
         .map(|(v, p)| {
-            v >= first_own
-                && (p.y > HAIR_ABOVE_Y || (p.z < HAIR_BEHIND_Z && p.y > HAIR_NAPE_Y))
+            v >= first_own && (p.y > HAIR_ABOVE_Y || (p.z < HAIR_BEHIND_Z && p.y > HAIR_NAPE_Y))
         })
         .collect();
     let mut index = vec![u32::MAX; skin.positions.len()];
@@ -94,7 +93,9 @@ fn ring(centre: DVec3, r: f64) -> Mesh {
         let radial = DVec3::new(a.cos(), a.sin(), 0.0);
         for j in 0..wire {
             let b = TAU * f64::from(j) / f64::from(wire);
-            p.push(centre + radial * (r + WIRE_RADIUS * b.cos()) + DVec3::Z * WIRE_RADIUS * b.sin());
+            p.push(
+                centre + radial * (r + WIRE_RADIUS * b.cos()) + DVec3::Z * WIRE_RADIUS * b.sin(),
+            );
         }
     }
     let at = |i: u32, j: u32| (i % around) * wire + j % wire;
@@ -140,8 +141,10 @@ pub fn glasses() -> Mesh {
         .map(|c| ring(DVec3::new(c.x, c.y, lens_z), LENS_RADIUS))
         .collect();
     let bridge_y = y + 0.006;
-    let bridge_z = front(&pts, |p| p.x.abs() < 0.012 && (f64::from(p.y) - bridge_y).abs() < 0.006)
-        .max(lens_z - 0.01)
+    let bridge_z = front(&pts, |p| {
+        p.x.abs() < 0.012 && (f64::from(p.y) - bridge_y).abs() < 0.006
+    })
+    .max(lens_z - 0.01)
         + FRAME_CLEARANCE;
     let inner = eyes.map(|c| c.x - c.x.signum() * LENS_RADIUS);
     parts.push(wire(&[
@@ -156,9 +159,7 @@ pub fn glasses() -> Mesh {
             let z = lens_z - (lens_z + 0.095) * f64::from(k) / 8.0;
             let side_x = pts
                 .iter()
-                .filter(|p| {
-                    (f64::from(p.y) - y).abs() < 0.012 && (f64::from(p.z) - z).abs() < 0.01
-                })
+                .filter(|p| (f64::from(p.y) - y).abs() < 0.012 && (f64::from(p.z) - z).abs() < 0.01)
                 .map(|p| f64::from(p.x) * side)
                 .fold(0.0, f64::max);
             path.push(DVec3::new(side * (side_x + FRAME_CLEARANCE), y, z));

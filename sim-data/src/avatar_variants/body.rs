@@ -54,7 +54,9 @@ pub type Mesh = (Vec<DVec3>, Vec<[u32; 3]>);
 pub fn tube(sections: &[Section], segments: usize, grow: f64) -> Mesh {
     let mut rings: Vec<Section> = Vec::new();
     for w in sections.windows(2) {
-        let n = ((w[1].centre - w[0].centre).length() / RING_SPACING).ceil().max(1.0) as usize;
+        let n = ((w[1].centre - w[0].centre).length() / RING_SPACING)
+            .ceil()
+            .max(1.0) as usize;
         for k in 0..n {
             let t = k as f64 / n as f64;
             rings.push(Section {
@@ -74,9 +76,7 @@ pub fn tube(sections: &[Section], segments: usize, grow: f64) -> Mesh {
         for j in 0..segments {
             let a = TAU * j as f64 / segments as f64;
             p.push(
-                r.centre
-                    + u * (r.radii[0] + grow) * a.cos()
-                    + v * (r.radii[1] + grow) * a.sin(),
+                r.centre + u * (r.radii[0] + grow) * a.cos() + v * (r.radii[1] + grow) * a.sin(),
             );
         }
     }
@@ -93,7 +93,10 @@ pub fn tube(sections: &[Section], segments: usize, grow: f64) -> Mesh {
     let (first, last) = (p.len() as u32, p.len() as u32 + 1);
     // The caps' centres stand `grow` beyond the end rings, so a grown
     // tube's caps cover the plain one's.
-    let ends = [rings[0].centre - rings[1].centre, rings[n - 1].centre - rings[n - 2].centre];
+    let ends = [
+        rings[0].centre - rings[1].centre,
+        rings[n - 1].centre - rings[n - 2].centre,
+    ];
     p.push(rings[0].centre + ends[0].normalize() * grow);
     p.push(rings[n - 1].centre + ends[1].normalize() * grow);
     for j in 0..seg {
@@ -170,12 +173,17 @@ pub fn leg(side: f64) -> Vec<Section> {
 /// A foot of `side`: heel to toes.
 pub fn foot(side: f64) -> Vec<Section> {
     let x = hip(side).x + side * 0.01;
-    vec![s(x, 0.045, -0.05, 0.04, 0.035), s(x, 0.035, 0.16, 0.045, 0.025)]
+    vec![
+        s(x, 0.045, -0.05, 0.04, 0.035),
+        s(x, 0.035, 0.16, 0.045, 0.025),
+    ]
 }
 
 /// Both sides of a limb.
 fn both(limb: fn(f64) -> Vec<Section>, segments: usize, grow: f64) -> Vec<Mesh> {
-    [1.0, -1.0].map(|side| tube(&limb(side), segments, grow)).to_vec()
+    [1.0, -1.0]
+        .map(|side| tube(&limb(side), segments, grow))
+        .to_vec()
 }
 
 /// The body: torso, arms, legs, feet.
@@ -233,11 +241,23 @@ pub fn skeleton(eye_centres: [Vec3; 2]) -> Vec<Joint> {
     for (k, side) in [1.0f64, -1.0].into_iter().enumerate() {
         let first = j.len();
         let turn = Quat::from_rotation_z((side * ARM_ANGLE_DEGREES).to_radians() as f32);
-        let mut at = Joint::at(names[k][0], Some(2), shoulder(side).as_vec3() - Vec3::new(0.0, 1.28, 0.0));
+        let mut at = Joint::at(
+            names[k][0],
+            Some(2),
+            shoulder(side).as_vec3() - Vec3::new(0.0, 1.28, 0.0),
+        );
         at.rotation = turn;
         j.push(at);
-        j.push(Joint::at(names[k][1], Some(first), Vec3::new(0.0, -0.30, 0.0)));
-        j.push(Joint::at(names[k][2], Some(first + 1), Vec3::new(0.0, -0.26, 0.0)));
+        j.push(Joint::at(
+            names[k][1],
+            Some(first),
+            Vec3::new(0.0, -0.30, 0.0),
+        ));
+        j.push(Joint::at(
+            names[k][2],
+            Some(first + 1),
+            Vec3::new(0.0, -0.26, 0.0),
+        ));
     }
     let legs = [
         ["LeftUpperLeg", "LeftLowerLeg", "LeftFoot"],
@@ -246,9 +266,21 @@ pub fn skeleton(eye_centres: [Vec3; 2]) -> Vec<Joint> {
     for (k, side) in [1.0f64, -1.0].into_iter().enumerate() {
         let first = j.len();
         let h = hip(side).as_vec3();
-        j.push(Joint::at(legs[k][0], Some(0), h - Vec3::new(0.0, 0.95, 0.0)));
-        j.push(Joint::at(legs[k][1], Some(first), Vec3::new(side as f32 * 0.01, 0.50 - h.y, 0.0)));
-        j.push(Joint::at(legs[k][2], Some(first + 1), Vec3::new(0.0, -0.42, -0.01)));
+        j.push(Joint::at(
+            legs[k][0],
+            Some(0),
+            h - Vec3::new(0.0, 0.95, 0.0),
+        ));
+        j.push(Joint::at(
+            legs[k][1],
+            Some(first),
+            Vec3::new(side as f32 * 0.01, 0.50 - h.y, 0.0),
+        ));
+        j.push(Joint::at(
+            legs[k][2],
+            Some(first + 1),
+            Vec3::new(0.0, -0.42, -0.01),
+        ));
     }
     j
 }

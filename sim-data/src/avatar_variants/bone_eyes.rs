@@ -42,7 +42,11 @@ fn avatar() -> Avatar {
             target_names: Vec::new(),
         };
     }
-    for p in avatar.parts.iter_mut().filter(|p| p.mesh == 1 || p.mesh == 2) {
+    for p in avatar
+        .parts
+        .iter_mut()
+        .filter(|p| p.mesh == 1 || p.mesh == 2)
+    {
         p.targets.clear();
     }
     avatar

@@ -39,7 +39,9 @@ pub fn cm_z_up() -> (Vec<u8>, VariantTruth) {
     let mut avatar = base().avatar.clone();
     let unturn = Quat::from_rotation_y(-YAW_DEGREES.to_radians());
     for part in &mut avatar.parts {
-        part.positions.iter_mut().for_each(|p| *p = unturn * (MM_PER_M * *p));
+        part.positions
+            .iter_mut()
+            .for_each(|p| *p = unturn * (MM_PER_M * *p));
         for t in &mut part.targets {
             t.iter_mut().for_each(|d| *d = unturn * (MM_PER_M * *d));
         }

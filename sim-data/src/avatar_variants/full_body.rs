@@ -15,7 +15,9 @@
 //! have eye joints and eyeLook targets both).
 
 use super::accessories::{glasses, hair};
-use super::body::{EYE_JOINTS, HEAD_JOINT, HEAD_OFFSET, bones, body, nearest_joint, outfit, skeleton};
+use super::body::{
+    EYE_JOINTS, HEAD_JOINT, HEAD_OFFSET, body, bones, nearest_joint, outfit, skeleton,
+};
 use super::glb_edit::Glb;
 use super::parts::{arkit_mesh, base, base_part, bounds, dpart, glb_of, plain_mesh, plain_truth};
 use super::truth::VariantTruth;
@@ -153,7 +155,11 @@ pub fn full_body() -> (Vec<u8>, VariantTruth) {
             0 | 3 | 4 | 5 | 7 | 8 => HEAD_JOINT,
             _ => nearest_joint(&bones, p),
         };
-        let joints: Vec<[u16; 4]> = part.positions.iter().map(|&p| [joint_of(p), 0, 0, 0]).collect();
+        let joints: Vec<[u16; 4]> = part
+            .positions
+            .iter()
+            .map(|&p| [joint_of(p), 0, 0, 0])
+            .collect();
         let weights = vec![[1.0, 0.0, 0.0, 0.0]; joints.len()];
         glb.skin_primitive(part.mesh, part.primitive, &joints, &weights);
     }

@@ -77,7 +77,8 @@ impl Glb {
     /// `ARRAY_BUFFER` target, other data (matrices) none.
     pub fn push_accessor(&mut self, bytes: &[u8], mut accessor: Value, vertex: bool) -> usize {
         self.bin.resize(self.bin.len().next_multiple_of(4), 0);
-        let mut view = json!({ "buffer": 0, "byteOffset": self.bin.len(), "byteLength": bytes.len() });
+        let mut view =
+            json!({ "buffer": 0, "byteOffset": self.bin.len(), "byteLength": bytes.len() });
         if vertex {
             view["target"] = json!(ARRAY_BUFFER);
         }
@@ -99,8 +100,16 @@ impl Glb {
         joints: &[[u16; 4]],
         weights: &[[f32; 4]],
     ) {
-        let j: Vec<u8> = joints.iter().flatten().flat_map(|x| x.to_le_bytes()).collect();
-        let w: Vec<u8> = weights.iter().flatten().flat_map(|x| x.to_le_bytes()).collect();
+        let j: Vec<u8> = joints
+            .iter()
+            .flatten()
+            .flat_map(|x| x.to_le_bytes())
+            .collect();
+        let w: Vec<u8> = weights
+            .iter()
+            .flatten()
+            .flat_map(|x| x.to_le_bytes())
+            .collect();
         let n = joints.len();
         let ja = self.push_accessor(
             &j,

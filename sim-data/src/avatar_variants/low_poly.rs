@@ -41,7 +41,11 @@ pub fn uv_sphere(
         let theta = PI * k as f64 / rings as f64;
         for s in 0..segments {
             let phi = TAU * s as f64 / segments as f64;
-            let d = DVec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos());
+            let d = DVec3::new(
+                theta.sin() * phi.cos(),
+                theta.sin() * phi.sin(),
+                theta.cos(),
+            );
             p.push(centre + radius * d);
         }
     }
@@ -51,11 +55,20 @@ pub fn uv_sphere(
     let mut t = Vec::new();
     for s in 0..seg {
         t.push([0, ring(0, s + 1), ring(0, s)]);
-        t.push([n - 1, ring(rings as u32 - 2, s), ring(rings as u32 - 2, s + 1)]);
+        t.push([
+            n - 1,
+            ring(rings as u32 - 2, s),
+            ring(rings as u32 - 2, s + 1),
+        ]);
     }
     for k in 0..rings as u32 - 2 {
         for s in 0..seg {
-            let (a, b, c, d) = (ring(k, s), ring(k, s + 1), ring(k + 1, s), ring(k + 1, s + 1));
+            let (a, b, c, d) = (
+                ring(k, s),
+                ring(k, s + 1),
+                ring(k + 1, s),
+                ring(k + 1, s + 1),
+            );
             t.push([a, b, d]);
             t.push([a, d, c]);
         }

@@ -115,9 +115,10 @@ pub fn bounds(avatar: &Avatar, to_world: impl Fn(Vec3) -> Vec3) -> [Vec3; 2] {
         .parts
         .iter()
         .flat_map(|p| p.positions.iter().map(|&v| to_world(v)))
-        .fold([Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)], |[lo, hi], v| {
-            [lo.min(v), hi.max(v)]
-        })
+        .fold(
+            [Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)],
+            |[lo, hi], v| [lo.min(v), hi.max(v)],
+        )
 }
 
 /// The default avatar's eye centres' distance (m).

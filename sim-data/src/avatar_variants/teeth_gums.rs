@@ -18,7 +18,12 @@ use likeness::avatar::{Avatar, AvatarPart};
 /// targets follow.
 fn sort_by_x(part: &mut AvatarPart) {
     let mut order: Vec<usize> = (0..part.positions.len()).collect();
-    order.sort_by(|&a, &b| part.positions[a].x.total_cmp(&part.positions[b].x).then(a.cmp(&b)));
+    order.sort_by(|&a, &b| {
+        part.positions[a]
+            .x
+            .total_cmp(&part.positions[b].x)
+            .then(a.cmp(&b))
+    });
     let mut new_index = vec![0u32; order.len()];
     for (new, &old) in order.iter().enumerate() {
         new_index[old] = new as u32;
@@ -44,9 +49,7 @@ fn avatar() -> (Avatar, usize) {
     avatar.parts.retain(|p| p.mesh < 3);
     avatar.parts.push(mouth);
     avatar.parts.push(base_part(b.tongue, 4, 0));
-    avatar.meshes = [0, 1, 2, 3, 5]
-        .map(|m| b.avatar.meshes[m].clone())
-        .to_vec();
+    avatar.meshes = [0, 1, 2, 3, 5].map(|m| b.avatar.meshes[m].clone()).to_vec();
     avatar.meshes[3].name = Some("TeethAndGums".into());
     (avatar, lower)
 }

@@ -1,4 +1,4 @@
-//! `low-poly`: a game or web avatar's head of about 2,600 vertices.
+//! `low-poly`: a game or web avatar's head of 2,336 vertices.
 //!
 //! The default avatar's skin resampled coarser ([`FACE_SPACING`],
 //! [`HEAD_SPACING`]): the same surface (every face vertex on the mask) on
@@ -17,9 +17,9 @@ use likeness::avatar::Avatar;
 use std::f64::consts::{PI, TAU};
 
 /// Face sampling (m): 4.2 mm, 2.5 times the default's 1.7 mm, about
-/// 1,250 face vertices (the mask's 1,220 are ARKit's own density).
+/// 1,375 face vertices (the mask's 1,220 are ARKit's own density).
 pub const FACE_SPACING: f64 = 0.0042;
-/// Head sampling (m): 12 mm, about 1,300 vertices over cranium, neck and
+/// Head sampling (m): 12 mm, 961 more vertices over cranium, neck and
 /// shoulders: a game head's back is coarse.
 pub const HEAD_SPACING: f64 = 0.012;
 /// Eyeball rings pole to pole and vertices per ring: 10 × 16 = 146

@@ -44,8 +44,13 @@ fn main() {
             v.truth.face_vertices,
             v.description
         );
+        let read = read_avatar_bytes(&v.glb, v.name).expect("the core reads every variant");
+        println!(
+            "    {} vertices in {} parts",
+            read.avatar.vertex_count(),
+            read.avatar.parts.len()
+        );
         if png {
-            let read = read_avatar_bytes(&v.glb, v.name).expect("the core reads every variant");
             let t = &v.truth;
             let to_y_up = |p: Vec3| {
                 let q = p * t.unit_to_metres;

@@ -1,6 +1,6 @@
 //! The skin (face region and head sharing the outline) with its 52 shapes,
-//! at any resolution: the default avatar's at [`face::FACE_SPACING`] and
-//! [`head::HEAD_SPACING`], the low-poly test avatar's coarser
+//! at any resolution: the default avatar's at [`super::face::FACE_SPACING`] and
+//! [`super::head::HEAD_SPACING`], the low-poly test avatar's coarser
 //! (`avatar_variants::low_poly`). Resampling the mask and continuing the
 //! template past the outline at another spacing gives the same surface and
 //! the same motion on other vertices.

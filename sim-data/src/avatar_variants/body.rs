@@ -123,17 +123,21 @@ fn arm_direction(side: f64) -> DVec3 {
     DVec3::new(side * a.sin(), -a.cos(), 0.0)
 }
 
-/// Shoulder joint of `side` (m).
+/// Shoulder joint of `side` (m): 0.38 m apart, an adult's biacromial
+/// breadth (≈ 0.22 H), just under the head's shoulder dome.
 fn shoulder(side: f64) -> DVec3 {
     DVec3::new(side * 0.19, 1.37, -0.01)
 }
 
-/// Hip joint of `side` (m).
+/// Hip joint of `side` (m): 0.18 m apart (the hip joints' spacing, about
+/// half the pelvis' 0.3 m width), at 0.53 H.
 fn hip(side: f64) -> DVec3 {
     DVec3::new(side * 0.09, 0.92, 0.0)
 }
 
-/// The torso: from inside the shoulders' dome down to the crotch.
+/// The torso: from inside the shoulders' dome (y = 1.43 m, above its cut
+/// at 1.41 m) down to the crotch; chest 33 × 20 cm, waist 28 × 18 cm, hips
+/// 34 × 20 cm (girths near 0.9, 0.75 and 0.95 m).
 pub fn torso() -> Vec<Section> {
     vec![
         s(0.0, 1.43, -0.01, 0.15, 0.085),

@@ -79,7 +79,12 @@ pub fn other_proportions() -> (Vec<u8>, VariantTruth) {
             continue;
         }
         for t in &mut part.targets {
-            for (d, p) in t.iter_mut().zip(&part.positions) {
+            // A still vertex stays still (most are, for most targets).
+            for (d, p) in t
+                .iter_mut()
+                .zip(&part.positions)
+                .filter(|(d, _)| **d != Vec3::ZERO)
+            {
                 let p = p.as_dvec3();
                 *d = (warp(p + d.as_dvec3()) - warp(p)).as_vec3();
             }

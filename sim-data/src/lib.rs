@@ -6,6 +6,7 @@
 
 #![warn(missing_docs)]
 
+pub mod avatar_variants;
 pub mod capture_session;
 pub mod default_avatar;
 pub mod envelope;

@@ -186,8 +186,14 @@ fn on_edge(mask: &FaceMask, a: u32, b: u32, t: f64) -> Option<MaskPoint> {
     })
 }
 
-/// Builds the face region of the skin.
+/// Builds the face region of the skin at [`FACE_SPACING`].
 pub fn face_region() -> FaceRegion {
+    face_region_with(FACE_SPACING)
+}
+
+/// Builds the face region with grid and boundary spacing `spacing` (m): the
+/// default avatar's is [`FACE_SPACING`]; the low-poly test avatar's coarser.
+pub fn face_region_with(spacing: f64) -> FaceRegion {
     let mask = face_mask();
     let loops = mask_loops(mask);
     let mut uv: Vec<[f64; 2]> = Vec::new();
@@ -200,7 +206,7 @@ pub fn face_region() -> FaceRegion {
             let (a, b) = (l[k], l[(k + 1) % l.len()]);
             let (pa, pb) = (mask.uv[a as usize], mask.uv[b as usize]);
             let len = ((pa[0] - pb[0]).powi(2) + (pa[1] - pb[1]).powi(2)).sqrt();
-            let pieces = (len / FACE_SPACING).ceil().max(1.0) as usize;
+            let pieces = (len / spacing).ceil().max(1.0) as usize;
             for s in 0..pieces {
                 let t = s as f64 / pieces as f64;
                 if let Some(m) = on_edge(mask, a, b, t) {
@@ -217,7 +223,7 @@ pub fn face_region() -> FaceRegion {
         |p: [f64; 2]| inside(&polygons[3], p) && !polygons[..3].iter().any(|h| inside(h, p));
     let boundary = uv.clone();
     let locator = Locator::new(mask);
-    let h = FACE_SPACING;
+    let h = spacing;
     let rows = (0.2 / (h * 0.866)) as i64;
     for r in 0..rows {
         let v = -0.11 + r as f64 * h * 0.866;

@@ -245,8 +245,14 @@ fn bottom_angle(psi: f64) -> f64 {
 /// in the plane too (else the triangulation fills the slivers between
 /// them with triangles of zero area).
 pub fn head_region(rim_points: &[DVec3], anchor: &[bool]) -> HeadRegion {
+    head_region_with(rim_points, anchor, HEAD_SPACING)
+}
+
+/// [`head_region`] with rings and ring points `spacing` apart (m) instead
+/// of [`HEAD_SPACING`] (the low-poly test avatar's head is coarser).
+pub fn head_region_with(rim_points: &[DVec3], anchor: &[bool], spacing: f64) -> HeadRegion {
     let rim = Rim::new(rim_points);
-    let h = HEAD_SPACING;
+    let h = spacing;
     let n_az = 180;
     let gmax: Vec<f64> = (0..n_az)
         .map(|k| bottom_angle(TAU * k as f64 / n_az as f64))

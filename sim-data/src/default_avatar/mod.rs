@@ -10,6 +10,7 @@
 //! | what | where | how |
 //! |---|---|---|
 //! | face skin | [`face`] | mask's parameter plane resampled (1.7 mm hex grid), each vertex at a barycentric point of a mask triangle |
+//! | skin and its shapes at any spacing | [`skin`] | face region and head joined at the outline, the template continued past it (the low-poly test avatar resamples it coarser) |
 //! | head, neck, shoulders | [`head`] | star-shaped implicit surface about `head::CENTRE`, rings 4.5 mm apart, joined to the face's outline |
 //! | ears | [`ears`] | pressed ellipsoid shells, roots sunk into the head |
 //! | eyeballs, sockets | [`eyes`] | 24 mm globe with an 11.5 mm cornea bulging 2.5 mm, placed as far forward as the lids allow; a 29 mm bowl behind each |
@@ -26,12 +27,12 @@ pub mod face;
 pub mod head;
 pub mod mouth;
 pub mod shapes;
+pub mod skin;
 #[cfg(test)]
 mod tests;
 
-use crate::face_mask::{EYE_CENTRE, face_mask};
-use crate::template::{generic_model, generic_template};
-use face::{FaceRegion, MaskPoint, face_region};
+use crate::face_mask::EYE_CENTRE;
+use face::{FaceRegion, MaskPoint};
 use glam::{DMat3, DVec3, Vec3};
 use likeness::Blendshape;
 use likeness::avatar::model::{Avatar, AvatarMesh, AvatarPart};
@@ -193,54 +194,12 @@ fn mesh(name: &str, shapes: &[Blendshape]) -> AvatarMesh {
 }
 
 fn build_default_avatar() -> DefaultAvatar {
-    let mask = face_mask();
-    let tris = mask.topology.triangles();
-    let face = face_region();
-    let rim: Vec<DVec3> = face
-        .rim
-        .iter()
-        .map(|&v| face.positions[v as usize])
-        .collect();
-    let head = head::head_region(&rim, &face.rim_anchor);
-    let nf = face.positions.len() as u32;
-    let nr = rim.len() as u32;
-    let remap = |i: u32| {
-        if i < nr {
-            face.rim[i as usize]
-        } else {
-            nf + i - nr
-        }
-    };
-    let mut skin_p = face.positions.clone();
-    skin_p.extend(&head.positions);
-    let mut skin_t = face.triangles.clone();
-    skin_t.extend(head.triangles.iter().map(|t| t.map(remap)));
-    // Shapes on the skin.
-    let template = generic_template();
-    let face_t = shapes::face_targets(&face.on_mask, &template, tris);
-    let jaw = generic_model().jaw_weights;
-    let rim_jaw: Vec<f64> = face
-        .rim
-        .iter()
-        .map(|&v| {
-            let m = face.on_mask[v as usize];
-            let t = tris[m.triangle as usize];
-            (0..3).map(|k| m.barycentric[k] * jaw[t[k] as usize]).sum()
-        })
-        .collect();
-    let rim_deltas: Vec<Vec<DVec3>> = face_t
-        .iter()
-        .map(|t| face.rim.iter().map(|&v| t[v as usize]).collect())
-        .collect();
-    let head_t = shapes::head_targets(&head.positions, &rim, &rim_deltas, &rim_jaw);
-    let skin_targets: Vec<Vec<DVec3>> = face_t
-        .iter()
-        .zip(&head_t)
-        .map(|(f, h)| f.iter().chain(h).copied().collect())
-        .collect();
+    let skin = skin::skin(face::FACE_SPACING, head::HEAD_SPACING);
+    let (face, face_t) = (&skin.face, &skin.face_targets);
     // Eyes.
     let all = Blendshape::ALL.to_vec();
-    let mut parts = vec![part("skin", 0, 0, &(skin_p, skin_t), skin_targets)];
+    let skin_mesh = (skin.positions.clone(), skin.triangles.clone());
+    let mut parts = vec![part("skin", 0, 0, &skin_mesh, skin.targets.clone())];
     let ear_mesh = {
         let mut m: mouth::Mesh = (Vec::new(), Vec::new());
         for side in 0..2 {
@@ -257,7 +216,7 @@ fn build_default_avatar() -> DefaultAvatar {
     let mut eye_parts = Vec::new();
     for (side, slot) in eye_centres.iter_mut().enumerate() {
         let x = if side == 0 { 1.0 } else { -1.0 } * EYE_CENTRE[0];
-        let centre = DVec3::new(x, EYE_CENTRE[1], eye_depth(side, &face, &face_t));
+        let centre = DVec3::new(x, EYE_CENTRE[1], eye_depth(side, face, face_t));
         *slot = centre.as_vec3();
         let ball = eyes::eyeball(centre);
         let own = eye_shapes(side);
@@ -323,7 +282,7 @@ fn build_default_avatar() -> DefaultAvatar {
         avatar: Avatar { meshes, parts },
         true_correspondence: face.on_mask.clone(),
         face_outline: face.rim.clone(),
-        neck_bottom: head.bottom.iter().map(|&i| remap(i)).collect(),
+        neck_bottom: skin.neck_bottom.clone(),
         skin: 0,
         ears: 1,
         sockets: 2,

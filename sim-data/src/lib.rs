@@ -7,6 +7,7 @@
 #![warn(missing_docs)]
 
 pub mod capture_session;
+pub mod compressed_glb;
 pub mod default_avatar;
 pub mod envelope;
 pub mod face_mask;

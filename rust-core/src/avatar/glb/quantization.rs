@@ -1,0 +1,246 @@
+//! `KHR_mesh_quantization`
+//! (<https://github.com/KhronosGroup/glTF/blob/main/extensions/2.0/Khronos/KHR_mesh_quantization/README.md>):
+//! vertex attributes stored as 8- or 16-bit integers, normalized or not,
+//! turned into 32-bit floats.
+//!
+//! An integer `c` becomes a float by the glTF 2.0 spec's rules
+//! ("Animations", the table of normalized integers, which
+//! `KHR_mesh_quantization` refers to): unnormalized, `c` itself;
+//! normalized, `max(c / 127, −1)` (BYTE), `c / 255` (UNSIGNED_BYTE),
+//! `max(c / 32767, −1)` (SHORT), `c / 65535` (UNSIGNED_SHORT)
+//! ([`component`]). The dequantization an exporter folds into the mesh's
+//! node (a scale and an offset in its `matrix` or TRS) is left there: the
+//! scene places the mesh with it like any other transform (`scene.rs`).
+//!
+//! On reading, every accessor a primitive uses as an attribute (or a
+//! target's `POSITION`, `NORMAL`, `TANGENT`) whose type core glTF 2.0 does
+//! not allow for it ([`core_allows`], spec "Meshes", attribute table) is
+//! rewritten dense, as floats, in a buffer of its own (with `min` / `max`
+//! for `POSITION`), and the extension leaves `extensionsUsed` and
+//! `extensionsRequired`: a file written back from it is plain glTF 2.0.
+
+use super::GlbError;
+use super::accessor::Source;
+use super::meshopt::forget_extension;
+use gltf::Semantic;
+use gltf::accessor::DataType;
+use serde_json::{Value, json};
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// The extension's name.
+pub(crate) const EXTENSION: &str = "KHR_mesh_quantization";
+
+const FLOAT: u32 = 5126;
+const ARRAY_BUFFER: u32 = 34962;
+
+/// One component of `data_type` from its little-endian bytes, as a float
+/// (the module's rules).
+pub(crate) fn component(data_type: DataType, normalized: bool, b: &[u8]) -> f32 {
+    match (data_type, normalized) {
+        (DataType::F32, _) => f32::from_le_bytes([b[0], b[1], b[2], b[3]]),
+        (DataType::I8, false) => f32::from(b[0] as i8),
+        (DataType::I8, true) => (f32::from(b[0] as i8) / 127.0).max(-1.0),
+        (DataType::U8, false) => f32::from(b[0]),
+        (DataType::U8, true) => f32::from(b[0]) / 255.0,
+        (DataType::I16, false) => f32::from(i16::from_le_bytes([b[0], b[1]])),
+        (DataType::I16, true) => (f32::from(i16::from_le_bytes([b[0], b[1]])) / 32767.0).max(-1.0),
+        (DataType::U16, false) => f32::from(u16::from_le_bytes([b[0], b[1]])),
+        (DataType::U16, true) => f32::from(u16::from_le_bytes([b[0], b[1]])) / 65535.0,
+        // Not a vertex attribute type in glTF 2.0 (indices only).
+        (DataType::U32, _) => u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f32,
+    }
+}
+
+/// Whether core glTF 2.0 allows `data_type` (normalized or not) for the
+/// attribute `semantic` of a primitive (`target`: of a morph target).
+pub(crate) fn core_allows(
+    semantic: &Semantic,
+    target: bool,
+    data_type: DataType,
+    normalized: bool,
+) -> bool {
+    use DataType::{F32, U8, U16};
+    let float = data_type == F32;
+    let unsigned_normalized = normalized && matches!(data_type, U8 | U16);
+    match semantic {
+        Semantic::Positions | Semantic::Normals | Semantic::Tangents => float,
+        _ if target => float,
+        Semantic::TexCoords(_) | Semantic::Colors(_) | Semantic::Weights(_) => {
+            float || unsigned_normalized
+        }
+        Semantic::Joints(_) => !normalized && matches!(data_type, U8 | U16),
+        // Application-specific (`_NAME`) attributes: anything goes.
+        _ => true,
+    }
+}
+
+/// Rewrites, as floats, every accessor a primitive uses in a way core
+/// glTF 2.0 does not allow (the module's rules); the new data goes to one
+/// new buffer appended to `buffers` and to the JSON's `buffers`.
+pub(crate) fn dequantize(
+    json: &mut Value,
+    buffers: &mut Vec<Vec<u8>>,
+    document: &gltf::Document,
+    file: &Path,
+) -> Result<(), GlbError> {
+    let source = Source {
+        file,
+        buffers: buffers.as_slice(),
+    };
+    // accessor → whether it is a POSITION (needs min and max)
+    let mut convert = BTreeMap::new();
+    for mesh in document.meshes() {
+        for primitive in mesh.primitives() {
+            for (semantic, a) in primitive.attributes() {
+                if !core_allows(&semantic, false, a.data_type(), a.normalized()) {
+                    *convert.entry(a.index()).or_insert(false) |= semantic == Semantic::Positions;
+                }
+            }
+            for target in primitive.morph_targets() {
+                for (semantic, a) in [
+                    (Semantic::Positions, target.positions()),
+                    (Semantic::Normals, target.normals()),
+                    (Semantic::Tangents, target.tangents()),
+                ] {
+                    if let Some(a) = a.filter(|a| a.data_type() != DataType::F32) {
+                        *convert.entry(a.index()).or_insert(false) |=
+                            semantic == Semantic::Positions;
+                    }
+                }
+            }
+        }
+    }
+    let mut bin = Vec::new();
+    let mut changes = Vec::new();
+    for (&index, &position) in &convert {
+        let Some(accessor) = document.accessors().nth(index) else {
+            continue;
+        };
+        let values = source.floats(&accessor)?;
+        let width = accessor.dimensions().multiplicity();
+        let offset = bin.len();
+        for v in &values {
+            bin.extend_from_slice(&v.to_le_bytes());
+        }
+        let had_bounds = json["accessors"][index].get("min").is_some();
+        let bounds = (position || had_bounds).then(|| bounds(&values, width));
+        changes.push((index, offset, bin.len() - offset, bounds));
+    }
+    if changes.is_empty() {
+        forget_extension(json, EXTENSION);
+        return Ok(());
+    }
+    let buffer = buffers.len();
+    if let Some(list) = json["buffers"].as_array_mut() {
+        list.push(json!({ "byteLength": bin.len() }));
+    }
+    buffers.push(bin);
+    for (index, offset, length, bounds) in changes {
+        let views = json["bufferViews"].as_array_mut();
+        let Some(views) = views else { continue };
+        views.push(json!({
+            "buffer": buffer, "byteOffset": offset, "byteLength": length, "target": ARRAY_BUFFER
+        }));
+        let view = views.len() - 1;
+        let a = &mut json["accessors"][index];
+        if let Some(o) = a.as_object_mut() {
+            for key in ["normalized", "byteOffset", "sparse", "min", "max"] {
+                o.remove(key);
+            }
+            o.insert("componentType".into(), json!(FLOAT));
+            o.insert("bufferView".into(), json!(view));
+            if let Some((min, max)) = bounds {
+                o.insert("min".into(), min);
+                o.insert("max".into(), max);
+            }
+        }
+    }
+    forget_extension(json, EXTENSION);
+    Ok(())
+}
+
+/// Per-component `min` and `max` of `values`, `width` components an
+/// element.
+fn bounds(values: &[f32], width: usize) -> (Value, Value) {
+    let mut min = vec![f32::INFINITY; width];
+    let mut max = vec![f32::NEG_INFINITY; width];
+    for element in values.chunks_exact(width) {
+        for (k, &x) in element.iter().enumerate() {
+            min[k] = min[k].min(x);
+            max[k] = max[k].max(x);
+        }
+    }
+    let list = |v: Vec<f32>| {
+        Value::Array(
+            v.into_iter()
+                .map(|x| Value::from(f64::from(if x.is_finite() { x } else { 0.0 })))
+                .collect(),
+        )
+    };
+    (list(min), list(max))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn normalized_integers_follow_the_spec() {
+        assert_eq!(component(DataType::I8, true, &[0x81]), -1.0); // -127
+        assert_eq!(component(DataType::I8, true, &[0x80]), -1.0); // -128 clamps
+        assert_eq!(component(DataType::U8, true, &[255]), 1.0);
+        assert_eq!(
+            component(DataType::I16, true, &0x7FFFi16.to_le_bytes()),
+            1.0
+        );
+        assert_eq!(
+            component(DataType::I16, true, &(-32768i16).to_le_bytes()),
+            -1.0
+        );
+        assert_eq!(
+            component(DataType::U16, true, &32768u16.to_le_bytes()),
+            32768.0 / 65535.0
+        );
+        assert_eq!(
+            component(DataType::I16, false, &(-300i16).to_le_bytes()),
+            -300.0
+        );
+        assert_eq!(component(DataType::U8, false, &[200]), 200.0);
+    }
+
+    #[test]
+    fn core_types_per_attribute() {
+        assert!(!core_allows(
+            &Semantic::Positions,
+            false,
+            DataType::I16,
+            true
+        ));
+        assert!(!core_allows(&Semantic::Normals, false, DataType::I8, true));
+        assert!(core_allows(
+            &Semantic::TexCoords(0),
+            false,
+            DataType::U16,
+            true
+        ));
+        assert!(!core_allows(
+            &Semantic::TexCoords(0),
+            false,
+            DataType::I16,
+            false
+        ));
+        assert!(core_allows(
+            &Semantic::Joints(0),
+            false,
+            DataType::U8,
+            false
+        ));
+        assert!(core_allows(
+            &Semantic::Weights(0),
+            false,
+            DataType::U8,
+            true
+        ));
+    }
+}

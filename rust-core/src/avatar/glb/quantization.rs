@@ -136,13 +136,35 @@ pub(crate) fn dequantize(
         list.push(json!({ "byteLength": bin.len() }));
     }
     buffers.push(bin);
+    let mut users = view_users(json);
     for (index, offset, length, bounds) in changes {
-        let views = json["bufferViews"].as_array_mut();
-        let Some(views) = views else { continue };
-        views.push(json!({
+        let new_view = json!({
             "buffer": buffer, "byteOffset": offset, "byteLength": length, "target": ARRAY_BUFFER
-        }));
-        let view = views.len() - 1;
+        });
+        // The accessor's old view takes the new data if nothing else uses
+        // it (no view is left unused); else the data gets a new view.
+        let old = json["accessors"][index]["bufferView"]
+            .as_u64()
+            .map(|v| v as usize);
+        let Some(views) = json
+            .as_object_mut()
+            .and_then(|o| o.entry("bufferViews").or_insert(json!([])).as_array_mut())
+        else {
+            continue;
+        };
+        let view = match old.filter(|&v| v < users.len()) {
+            Some(v) if users[v] == 1 => {
+                views[v] = new_view;
+                v
+            }
+            other => {
+                if let Some(v) = other {
+                    users[v] -= 1;
+                }
+                views.push(new_view);
+                views.len() - 1
+            }
+        };
         let a = &mut json["accessors"][index];
         if let Some(o) = a.as_object_mut() {
             for key in ["normalized", "byteOffset", "sparse", "min", "max"] {
@@ -158,6 +180,26 @@ pub(crate) fn dequantize(
     }
     forget_extension(json, EXTENSION);
     Ok(())
+}
+
+/// How many accessors (as data or sparse parts) and images use each
+/// buffer view.
+fn view_users(json: &Value) -> Vec<usize> {
+    let mut users = vec![0; json["bufferViews"].as_array().map_or(0, Vec::len)];
+    let mut count = |v: &Value| {
+        if let Some(slot) = v.as_u64().and_then(|v| users.get_mut(v as usize)) {
+            *slot += 1;
+        }
+    };
+    for a in json["accessors"].as_array().into_iter().flatten() {
+        count(&a["bufferView"]);
+        count(&a["sparse"]["indices"]["bufferView"]);
+        count(&a["sparse"]["values"]["bufferView"]);
+    }
+    for image in json["images"].as_array().into_iter().flatten() {
+        count(&image["bufferView"]);
+    }
+    users
 }
 
 /// Per-component `min` and `max` of `values`, `width` components an

@@ -8,6 +8,7 @@
 //! | [`quantize`] | positions, normals, target displacements as integers; the dequantizing node transform |
 //! | [`streams`] | meshoptimizer's codecs, and the views in the extension's layout |
 //! | [`accessors`] | reading the plain input's accessors (dense and sparse) |
+//! | `tests.rs` | a small avatar through the encoder; the node transforms |
 //!
 //! Only what a mesh primitive uses is rewritten: its `POSITION` (normalized
 //! SHORT), `NORMAL` (normalized BYTE, octahedral filter), other attributes
@@ -22,6 +23,8 @@
 pub mod accessors;
 pub mod quantize;
 pub mod streams;
+#[cfg(test)]
+mod tests;
 
 use quantize::Dequantization;
 use serde_json::{Value, json};

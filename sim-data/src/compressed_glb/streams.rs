@@ -106,7 +106,7 @@ impl Streams {
     /// A compressed view of triangle indices (`u16` if every index fits,
     /// else `u32`); its index and the glTF component type.
     pub fn triangles(&mut self, indices: &[u32], vertices: usize) -> Result<(usize, u32), String> {
-        if indices.len() % 3 != 0 {
+        if !indices.len().is_multiple_of(3) {
             return Err(format!("{} indices, not triangles", indices.len()));
         }
         let encoded =

@@ -208,14 +208,14 @@ fn decode_view(
             )
         })?;
     let stride_ok = match mode {
-        "ATTRIBUTES" => stride % 4 == 0 && (4..=256).contains(&stride),
+        "ATTRIBUTES" => stride.is_multiple_of(4) && (4..=256).contains(&stride),
         "TRIANGLES" | "INDICES" => stride == 2 || stride == 4,
         other => return Err(format!("unknown mode {:?}", short(other))),
     };
     if !stride_ok {
         return Err(format!("byteStride {stride} is not allowed in mode {mode}"));
     }
-    if count == 0 || (mode == "TRIANGLES" && count % 3 != 0) {
+    if count == 0 || (mode == "TRIANGLES" && !count.is_multiple_of(3)) {
         return Err(format!("count {count} in mode {mode}"));
     }
     let total = count.saturating_mul(stride);

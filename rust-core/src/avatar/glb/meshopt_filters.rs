@@ -30,7 +30,7 @@ impl Filter {
             "NONE" => (Filter::None, true),
             "OCTAHEDRAL" => (Filter::Octahedral, stride == 4 || stride == 8),
             "QUATERNION" => (Filter::Quaternion, stride == 8),
-            "EXPONENTIAL" => (Filter::Exponential, stride % 4 == 0 && stride > 0),
+            "EXPONENTIAL" => (Filter::Exponential, stride.is_multiple_of(4) && stride > 0),
             _ => return Err("unknown".into()),
         };
         if ok {

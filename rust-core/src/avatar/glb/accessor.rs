@@ -221,9 +221,34 @@ impl Source<'_> {
         self.check_type(accessor, dims, &VERTEX_TYPES)?;
         let (dt, normalized) = (accessor.data_type(), accessor.normalized());
         let c = dt.size();
-        let mut out = Vec::new();
+        // Dense data (the common case, and every decoded meshopt view):
+        // one pass over the view, without a call per element.
+        if let (Some(view), None) = (accessor.view(), accessor.sparse()) {
+            let s = self.strided(
+                accessor.index(),
+                &view,
+                accessor.offset(),
+                accessor.count(),
+                width * c,
+                view.stride(),
+            )?;
+            let mut out = Vec::with_capacity(s.count * width);
+            for i in 0..s.count {
+                let e = s.element(i);
+                out.extend((0..width).map(|k| component(dt, normalized, &e[k * c..])));
+            }
+            return Ok(out);
+        }
+        // The count is checked against the view before any element is
+        // read; capacity is reserved only up to what the buffers could hold.
+        let held: usize = self.buffers.iter().map(Vec::len).sum();
+        let mut out = Vec::with_capacity(accessor.count().min(held) * width);
         self.elements(accessor, width * c, None, &mut |i, b| {
             let at = i * width;
+            if out.len() == at {
+                out.extend((0..width).map(|k| component(dt, normalized, &b[k * c..])));
+                return;
+            }
             if out.len() < at + width {
                 out.resize(at + width, 0.0);
             }

@@ -111,15 +111,17 @@ pub(crate) fn dequantize(
             }
         }
     }
+    let accessors: Vec<gltf::Accessor> = document.accessors().collect();
     let mut bin = Vec::new();
     let mut changes = Vec::new();
     for (&index, &position) in &convert {
-        let Some(accessor) = document.accessors().nth(index) else {
+        let Some(accessor) = accessors.get(index) else {
             continue;
         };
-        let values = source.floats(&accessor)?;
+        let values = source.floats(accessor)?;
         let width = accessor.dimensions().multiplicity();
         let offset = bin.len();
+        bin.reserve(4 * values.len());
         for v in &values {
             bin.extend_from_slice(&v.to_le_bytes());
         }

@@ -53,20 +53,33 @@ pub(crate) fn fallback_buffers(json: &Value) -> Vec<bool> {
     let views = json["bufferViews"]
         .as_array()
         .map_or(&[][..], Vec::as_slice);
+    // Per buffer: views in it, views in it that carry the extension, and
+    // whether compressed data lies in it.
+    let mut plain = vec![0usize; buffers.len()];
+    let mut compressed = vec![0usize; buffers.len()];
+    let mut holds_streams = vec![false; buffers.len()];
+    let slot = |v: &Value| {
+        v.as_u64()
+            .map(|b| b as usize)
+            .filter(|&b| b < buffers.len())
+    };
+    for view in views {
+        let ext = extension(view);
+        if let Some(b) = slot(&view["buffer"]) {
+            if ext.is_some() {
+                compressed[b] += 1;
+            } else {
+                plain[b] += 1;
+            }
+        }
+        if let Some(b) = ext.and_then(|e| slot(&e["buffer"])) {
+            holds_streams[b] = true;
+        }
+    }
     (0..buffers.len())
         .map(|b| {
             let flagged = buffers[b]["extensions"][EXTENSION]["fallback"] == json!(true);
-            let mut referring = views
-                .iter()
-                .filter(|v| v["buffer"].as_u64() == Some(b as u64))
-                .peekable();
-            let only_compressed = referring.peek().is_some()
-                && referring.all(|v| extension(v).is_some())
-                && !views
-                    .iter()
-                    .filter_map(extension)
-                    .any(|e| e["buffer"].as_u64() == Some(b as u64));
-            flagged || only_compressed
+            flagged || (compressed[b] > 0 && plain[b] == 0 && !holds_streams[b])
         })
         .collect()
 }
@@ -323,4 +336,38 @@ fn decode_vertices(encoded: &[u8], count: usize, stride: usize) -> meshopt::Resu
         68 72 76 80 84 88 92 96 100 104 108 112 116 120 124 128
         132 136 140 144 148 152 156 160 164 168 172 176 180 184 188 192
         196 200 204 208 212 216 220 224 228 232 236 240 244 248 252 256)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fallback_buffers_are_flagged_or_only_behind_compressed_views() {
+        let ext = |b: u64| json!({ "EXT_meshopt_compression": { "buffer": b } });
+        let json = json!({
+            "buffers": [
+                { "byteLength": 8 },
+                { "byteLength": 64 },
+                { "byteLength": 64, "extensions": { "EXT_meshopt_compression": { "fallback": true } } },
+                { "byteLength": 4 },
+            ],
+            "bufferViews": [
+                { "buffer": 1, "byteLength": 64, "extensions": ext(0) },
+                { "buffer": 2, "byteLength": 64, "extensions": ext(0) },
+                { "buffer": 3, "byteLength": 4 },
+                { "buffer": 3, "byteLength": 4, "extensions": ext(0) },
+            ],
+        });
+        assert_eq!(fallback_buffers(&json), [false, true, true, false]);
+        assert!(used(&json));
+    }
+
+    #[test]
+    fn forgetting_an_extension_drops_empty_lists() {
+        let mut json =
+            json!({ "extensionsUsed": ["A", EXTENSION], "extensionsRequired": [EXTENSION] });
+        forget_extension(&mut json, EXTENSION);
+        assert_eq!(json, json!({ "extensionsUsed": ["A"] }));
+    }
 }

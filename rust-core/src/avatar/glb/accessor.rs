@@ -14,7 +14,7 @@
 //! accessor without a view must have the count its caller expects.
 
 use super::GlbError;
-use super::quantization::component;
+use super::normalized::component;
 use gltf::accessor::{DataType, Dimensions};
 use std::path::Path;
 

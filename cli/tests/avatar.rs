@@ -192,3 +192,43 @@ fn a_session_that_cannot_be_personalized_writes_nothing() {
     assert!(!glb.exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A compressed avatar (`EXT_meshopt_compression` and
+/// `KHR_mesh_quantization` required, as VRoid and web-optimised exports
+/// are) is personalized like any other and written back decompressed.
+#[test]
+fn a_compressed_avatar_is_personalized_and_written_back_plain() {
+    let dir = scratch("compressed");
+    let plain = likeness_sim::default_avatar::default_avatar_glb().expect("the default avatar");
+    let compressed = likeness_sim::compressed_glb::meshopt_compressed(&plain).expect("compressed");
+    let avatar = dir.join("compressed.glb");
+    std::fs::write(&avatar, &compressed).unwrap();
+    let glb = dir.join("x.glb");
+    let session = likeness_tests::committed::path(1);
+    let out = likeness(&[
+        "avatar",
+        &s(&session),
+        "--avatar",
+        &s(&avatar),
+        "--out",
+        &s(&glb),
+        "--cache-dir",
+        &s(&dir.join("cache")),
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    assert_eq!(v["arkit_found"], 52, "{v}");
+    let written = read_avatar(&glb).expect("the written GLB reads");
+    assert_eq!(check_avatar(&written).expect("an avatar").found(), 52);
+    let doc = written.json();
+    for key in ["extensionsUsed", "extensionsRequired"] {
+        let list = doc[key].as_array().cloned().unwrap_or_default();
+        assert!(
+            list.iter()
+                .all(|e| e != "EXT_meshopt_compression" && e != "KHR_mesh_quantization"),
+            "{key}: {list:?}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

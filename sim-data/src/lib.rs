@@ -8,6 +8,7 @@
 
 pub mod avatar_variants;
 pub mod capture_session;
+pub mod compressed_glb;
 pub mod default_avatar;
 pub mod envelope;
 pub mod face_mask;

@@ -122,7 +122,7 @@ pub(crate) fn count(n: usize) -> u32 {
 
 /// Flat xyz values as points; `field` names them in the error.
 pub(crate) fn points(field: &str, flat: &[f32]) -> Result<Vec<Vec3>, LikenessError> {
-    if flat.len() % 3 != 0 {
+    if !flat.len().is_multiple_of(3) {
         return Err(LikenessError::invalid(format!(
             "{field}: {} values are not a whole number of xyz points",
             flat.len()
@@ -138,7 +138,7 @@ pub(crate) fn points(field: &str, flat: &[f32]) -> Result<Vec<Vec3>, LikenessErr
 /// them in the error.
 pub(crate) fn packed_points(field: &str, bytes: &[u8]) -> Result<Vec<Vec3>, LikenessError> {
     const POINT: usize = 3 * size_of::<f32>();
-    if bytes.len() % POINT != 0 {
+    if !bytes.len().is_multiple_of(POINT) {
         return Err(LikenessError::invalid(format!(
             "{field}: {} bytes are not a whole number of xyz points of three little-endian 32-bit floats",
             bytes.len()
@@ -183,7 +183,7 @@ impl FaceTemplate {
     /// finiteness are the core's to check).
     pub(crate) fn to_core(&self) -> Result<(Topology, Template), LikenessError> {
         let neutral = points("template neutral", &self.neutral)?;
-        if self.triangles.len() % 3 != 0 {
+        if !self.triangles.len().is_multiple_of(3) {
             return Err(LikenessError::invalid(format!(
                 "template triangles: {} indices are not a whole number of triangles",
                 self.triangles.len()

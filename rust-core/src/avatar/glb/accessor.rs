@@ -14,8 +14,19 @@
 //! accessor without a view must have the count its caller expects.
 
 use super::GlbError;
+use super::normalized::component;
 use gltf::accessor::{DataType, Dimensions};
 use std::path::Path;
+
+/// The component types of vertex data: floats, and the integers of
+/// `KHR_mesh_quantization`.
+const VERTEX_TYPES: [DataType; 5] = [
+    DataType::F32,
+    DataType::I8,
+    DataType::U8,
+    DataType::I16,
+    DataType::U16,
+];
 
 /// `count` elements of `size` bytes, `stride` apart, all within `data`.
 struct Strided<'a> {
@@ -168,20 +179,81 @@ impl Source<'_> {
         Ok(())
     }
 
-    /// A `VEC3` of 32-bit floats (positions, target displacements).
+    /// A `VEC3` of 32-bit floats, or of 8- or 16-bit integers, normalized
+    /// or not (`KHR_mesh_quantization`), as floats by the rules of
+    /// [`component`] (positions, target displacements).
     pub fn vec3(
         &self,
         accessor: &gltf::Accessor,
         expected_count: Option<usize>,
     ) -> Result<Vec<glam::Vec3>, GlbError> {
-        self.check_type(accessor, Dimensions::Vec3, &[DataType::F32])?;
+        self.check_type(accessor, Dimensions::Vec3, &VERTEX_TYPES)?;
+        let (dt, normalized) = (accessor.data_type(), accessor.normalized());
+        let c = dt.size();
         let mut out = vec![glam::Vec3::ZERO; expected_count.unwrap_or(0)];
-        self.elements(accessor, 12, expected_count, &mut |i, b| {
-            let f = |k: usize| f32::from_le_bytes([b[k], b[k + 1], b[k + 2], b[k + 3]]);
-            let v = glam::Vec3::new(f(0), f(4), f(8));
+        self.elements(accessor, 3 * c, expected_count, &mut |i, b| {
+            let f = |k: usize| component(dt, normalized, &b[k * c..]);
+            let v = glam::Vec3::new(f(0), f(1), f(2));
             match out.get_mut(i) {
                 Some(slot) => *slot = v,
                 None => out.push(v),
+            }
+        })?;
+        Ok(out)
+    }
+
+    /// Every component of a `SCALAR` or `VEC2`…`VEC4` accessor of floats or
+    /// 8- or 16-bit integers, as floats ([`component`]), element after
+    /// element, sparse substitution applied.
+    pub fn floats(&self, accessor: &gltf::Accessor) -> Result<Vec<f32>, GlbError> {
+        let dims = accessor.dimensions();
+        let width = match dims {
+            Dimensions::Scalar | Dimensions::Vec2 | Dimensions::Vec3 | Dimensions::Vec4 => {
+                dims.multiplicity()
+            }
+            _ => {
+                return Err(self.error(
+                    accessor.index(),
+                    format!("{dims:?}: not a vertex attribute"),
+                ));
+            }
+        };
+        self.check_type(accessor, dims, &VERTEX_TYPES)?;
+        let (dt, normalized) = (accessor.data_type(), accessor.normalized());
+        let c = dt.size();
+        // Dense data (the common case, and every decoded meshopt view):
+        // one pass over the view, without a call per element.
+        if let (Some(view), None) = (accessor.view(), accessor.sparse()) {
+            let s = self.strided(
+                accessor.index(),
+                &view,
+                accessor.offset(),
+                accessor.count(),
+                width * c,
+                view.stride(),
+            )?;
+            let mut out = Vec::with_capacity(s.count * width);
+            for i in 0..s.count {
+                let e = s.element(i);
+                out.extend((0..width).map(|k| component(dt, normalized, &e[k * c..])));
+            }
+            return Ok(out);
+        }
+        // The count is checked against the view before any element is
+        // read; capacity is reserved only up to what the buffers could hold.
+        let held: usize = self.buffers.iter().map(Vec::len).sum();
+        let mut out = Vec::with_capacity(accessor.count().min(held) * width);
+        self.elements(accessor, width * c, None, &mut |i, b| {
+            let at = i * width;
+            if out.len() == at {
+                out.extend((0..width).map(|k| component(dt, normalized, &b[k * c..])));
+                return;
+            }
+            if out.len() < at + width {
+                out.resize(at + width, 0.0);
+            }
+            for k in 0..width {
+                out[at + k] = component(dt, normalized, &b[k * c..]);
             }
         })?;
         Ok(out)

@@ -120,15 +120,21 @@ pub(crate) fn join(json: &[u8], bin: &[u8]) -> Vec<u8> {
 }
 
 /// The bytes of every buffer of `document`, in order, each at least as
-/// long as its `byteLength`.
+/// long as its `byteLength`; a buffer `skip` marks (a fallback buffer of
+/// `EXT_meshopt_compression`, `meshopt.rs`) is not loaded and left empty.
 pub(crate) fn load_buffers(
     document: &gltf::Document,
     bin: Option<&[u8]>,
     folder: Option<&Path>,
     file: &Path,
+    skip: &[bool],
 ) -> Result<Vec<Vec<u8>>, GlbError> {
     let mut out = Vec::new();
     for buffer in document.buffers() {
+        if skip.get(buffer.index()).copied().unwrap_or(false) {
+            out.push(Vec::new());
+            continue;
+        }
         let err = |what: String| GlbError::Buffer {
             file: file.to_path_buf(),
             buffer: buffer.index(),

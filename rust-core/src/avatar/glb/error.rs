@@ -62,6 +62,30 @@ pub enum GlbError {
         /// What is wrong.
         what: String,
     },
+    /// A buffer view compressed with `EXT_meshopt_compression` cannot be
+    /// decoded: a field missing or out of range, or a stream meshoptimizer
+    /// rejects.
+    #[error("{file}: buffer view {view}: {what}")]
+    Compressed {
+        /// The file.
+        file: PathBuf,
+        /// Index of the buffer view.
+        view: usize,
+        /// What is wrong.
+        what: String,
+    },
+    /// The file requires an extension that stores or places geometry in a
+    /// way this reader does not decode (`KHR_draco_mesh_compression`,
+    /// `EXT_mesh_gpu_instancing`); `advice` says how to convert the file.
+    #[error("{file}: requires {extension}, which this reader does not decode; {advice}")]
+    Unsupported {
+        /// The file.
+        file: PathBuf,
+        /// The extension's name.
+        extension: String,
+        /// How to get a file this reader takes.
+        advice: String,
+    },
     /// An accessor reads past the end of its buffer view or buffer, or its
     /// layout is not one this reader supports.
     #[error("{file}: accessor {accessor}: {what}")]

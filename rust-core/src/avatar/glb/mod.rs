@@ -8,6 +8,10 @@
 //! | Accessors; Sparse Accessors | accessor data, lengths checked before use | `accessor.rs` |
 //! | Nodes and Hierarchy; Transformations; Skins | where the scene places each mesh | [`scene`] |
 //! | Meshes; Morph Targets | reading an avatar, checking it has ARKit's names | [`read`] |
+//! | `EXT_meshopt_compression` | compressed buffer views, decoded before reading | `meshopt.rs` |
+//! | `EXT_meshopt_compression`, "Filters" | octahedral, quaternion, exponential filters | `meshopt_filters.rs` |
+//! | `KHR_mesh_quantization` | quantized attributes rewritten as floats | `quantization.rs` |
+//! | Animations (normalized integers) | one integer component as a float | `normalized.rs` |
 //! | Accessors; Data Alignment; Accessor Bounds | accessors and views as written, dense or sparse | [`encode`] |
 //! | | where accessors and views are referred to, renumbering | `refs.rs` |
 //! | Morph Targets | writing a read file back with new targets | [`write_back`] |
@@ -18,6 +22,10 @@ mod accessor;
 mod container;
 pub mod encode;
 pub mod error;
+mod meshopt;
+mod meshopt_filters;
+mod normalized;
+mod quantization;
 pub mod read;
 mod refs;
 pub mod scene;

@@ -14,16 +14,25 @@
 //!   primitive's `extras.targetNames`, else the name of the target's
 //!   `POSITION` accessor, else `target N`.
 //! - A target without `POSITION` displaces nothing (zeros).
-//! - A required extension that changes how geometry is stored or placed
-//!   (Draco, mesh quantization, meshopt, GPU instancing) is an error; any
-//!   other (materials, textures) does not concern the geometry and is
-//!   kept as it is.
+//! - Geometry compressed with `EXT_meshopt_compression` is decoded and
+//!   geometry quantized with `KHR_mesh_quantization` turned into floats
+//!   first (`meshopt.rs`, `quantization.rs`): the JSON and buffers kept for
+//!   writing back are plain glTF 2.0 without either extension.
+//! - A required extension that stores or places geometry in a way this
+//!   reader does not decode (Draco, GPU instancing) is an error
+//!   ([`GlbError::Unsupported`], with advice on converting the file); any
+//!   other (materials, textures) does not concern the geometry and is kept
+//!   as it is.
+//! - A triangle is read in the file's order, reversed where its placement
+//!   mirrors (a negative determinant: glTF 2.0 spec, "Transformations",
+//!   front faces then wind clockwise), so that it faces outward in world
+//!   space either way.
 //! - Morph targets and ARKit names are not required here: [`check_avatar`]
 //!   asks for them when the file is to be used as an avatar.
 
 use super::accessor::Source;
 use super::scene::{Placement, placements};
-use super::{GlbError, container};
+use super::{GlbError, container, meshopt, quantization};
 use crate::avatar::{ArkitTargets, Avatar, AvatarMesh, AvatarPart, target_names::arkit_targets};
 use crate::io::read_bounded;
 use glam::Vec3;
@@ -74,12 +83,20 @@ pub fn read_avatar_bytes(bytes: &[u8], name: &str) -> Result<GlbAvatar, GlbError
     read(bytes, Path::new(name), None)
 }
 
-/// Required extensions that change how vertices are stored or placed.
-const GEOMETRY_EXTENSIONS: [&str; 4] = [
-    "KHR_draco_mesh_compression",
-    "KHR_mesh_quantization",
-    "EXT_meshopt_compression",
-    "EXT_mesh_gpu_instancing",
+/// Required extensions that store or place geometry in a way this reader
+/// does not decode, with what to do about each.
+const UNSUPPORTED: [(&str, &str); 2] = [
+    (
+        "KHR_draco_mesh_compression",
+        "re-export the avatar without Draco compression, or decompress it with \
+         `npx @gltf-transform/cli cp in.glb out.glb` (or turn Draco into meshopt, which \
+         this reader decodes, with `npx @gltf-transform/cli meshopt in.glb out.glb`)",
+    ),
+    (
+        "EXT_mesh_gpu_instancing",
+        "re-export the avatar with its instances as ordinary nodes \
+         (`npx @gltf-transform/cli uninstance in.glb out.glb`)",
+    ),
 ];
 
 fn read(bytes: &[u8], file: &Path, folder: Option<&Path>) -> Result<GlbAvatar, GlbError> {
@@ -88,48 +105,34 @@ fn read(bytes: &[u8], file: &Path, folder: Option<&Path>) -> Result<GlbAvatar, G
         what,
     };
     let parts = container::split(bytes, file)?;
-    let json: serde_json::Value =
+    let mut json: serde_json::Value =
         serde_json::from_slice(parts.json).map_err(|e| invalid(e.to_string()))?;
-    let mut root: gltf::json::Root =
+    let root: gltf::json::Root =
         gltf::json::deserialize::from_slice(parts.json).map_err(|e| invalid(e.to_string()))?;
-    // The `gltf` crate refuses every required extension it was not built
-    // with; only those that change how geometry is stored matter here.
-    if let Some(ext) = root
-        .extensions_required
+    if let Some((extension, advice)) = UNSUPPORTED
         .iter()
-        .find(|e| GEOMETRY_EXTENSIONS.contains(&e.as_str()))
+        .find(|(e, _)| root.extensions_required.iter().any(|r| r == e))
     {
-        return Err(invalid(format!(
-            "requires {ext}, which stores geometry in a way this reader does not decode"
-        )));
+        return Err(GlbError::Unsupported {
+            file: file.to_path_buf(),
+            extension: extension.to_string(),
+            advice: advice.to_string(),
+        });
     }
-    root.extensions_required.clear();
-    // gltf-json 1.4's validation indexes `accessors` with each POSITION
-    // before checking the index: check it first.
-    for (m, mesh) in root.meshes.iter().enumerate() {
-        for (p, primitive) in mesh.primitives.iter().enumerate() {
-            let semantic = gltf::json::validation::Checked::Valid(gltf::Semantic::Positions);
-            if let Some(a) = primitive.attributes.get(&semantic)
-                && a.value() >= root.accessors.len()
-            {
-                return Err(invalid(format!(
-                    "meshes[{m}].primitives[{p}].attributes.POSITION: accessor {} does not exist",
-                    a.value()
-                )));
-            }
-        }
+    let mut document = document(root, file)?;
+    let fallback = meshopt::fallback_buffers(&json);
+    let mut buffers = container::load_buffers(&document, parts.bin, folder, file, &fallback)?;
+    // Compressed and quantized geometry is made plain before anything is
+    // read (meshopt.rs, quantization.rs).
+    if meshopt::used(&json) {
+        meshopt::decode_views(&mut json, &mut buffers, file)?;
+        document = document_of(&json, file)?;
     }
-    let document = gltf::Document::from_json(root).map_err(|e| match e {
-        gltf::Error::Validation(list) => invalid(
-            list.iter()
-                .take(5)
-                .map(|(path, e)| format!("{}: {e}", path.as_str()))
-                .collect::<Vec<_>>()
-                .join("; "),
-        ),
-        other => invalid(other.to_string()),
-    })?;
-    let buffers = container::load_buffers(&document, parts.bin, folder, file)?;
+    if mentions(&json, quantization::EXTENSION) {
+        quantization::dequantize(&mut json, &mut buffers, &document, file)?;
+        document = document_of(&json, file)?;
+    }
+    meshopt::forget_extension(&mut json, meshopt::EXTENSION);
     let source = Source {
         file,
         buffers: &buffers,
@@ -174,6 +177,62 @@ fn read(bytes: &[u8], file: &Path, folder: Option<&Path>) -> Result<GlbAvatar, G
         file: file.to_path_buf(),
         json,
         buffers,
+    })
+}
+
+/// Whether `extensionsUsed` or `extensionsRequired` names `extension`.
+fn mentions(json: &serde_json::Value, extension: &str) -> bool {
+    ["extensionsUsed", "extensionsRequired"].iter().any(|k| {
+        json[k]
+            .as_array()
+            .is_some_and(|l| l.iter().any(|e| e == extension))
+    })
+}
+
+/// The validated document of a (rewritten) JSON.
+fn document_of(json: &serde_json::Value, file: &Path) -> Result<gltf::Document, GlbError> {
+    let root =
+        gltf::json::deserialize::from_value(json.clone()).map_err(|e| GlbError::Invalid {
+            file: file.to_path_buf(),
+            what: e.to_string(),
+        })?;
+    document(root, file)
+}
+
+/// Validates a glTF root (with every required extension accepted: those
+/// [`UNSUPPORTED`] lists were refused before).
+fn document(mut root: gltf::json::Root, file: &Path) -> Result<gltf::Document, GlbError> {
+    let invalid = |what: String| GlbError::Invalid {
+        file: file.to_path_buf(),
+        what,
+    };
+    // The `gltf` crate refuses every required extension it was not built
+    // with; those that matter here were handled.
+    root.extensions_required.clear();
+    // gltf-json 1.4's validation indexes `accessors` with each POSITION
+    // before checking the index: check it first.
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            let semantic = gltf::json::validation::Checked::Valid(gltf::Semantic::Positions);
+            if let Some(a) = primitive.attributes.get(&semantic)
+                && a.value() >= root.accessors.len()
+            {
+                return Err(invalid(format!(
+                    "meshes[{m}].primitives[{p}].attributes.POSITION: accessor {} does not exist",
+                    a.value()
+                )));
+            }
+        }
+    }
+    gltf::Document::from_json(root).map_err(|e| match e {
+        gltf::Error::Validation(list) => invalid(
+            list.iter()
+                .take(5)
+                .map(|(path, e)| format!("{}: {e}", path.as_str()))
+                .collect::<Vec<_>>()
+                .join("; "),
+        ),
+        other => invalid(other.to_string()),
     })
 }
 
@@ -258,6 +317,7 @@ fn read_part(
         )));
     }
     let mut triangles = Vec::with_capacity(indices.len() / 3);
+    let mirrored = placement.linear().determinant() < 0.0;
     for (k, t) in indices.chunks_exact(3).enumerate() {
         let tri = [t[0], t[1], t[2]];
         let what = if let Some(&i) = tri.iter().find(|&&i| i as usize >= n) {
@@ -265,7 +325,7 @@ fn read_part(
         } else if tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2] {
             format!("repeated index {tri:?}")
         } else {
-            triangles.push(tri);
+            triangles.push(if mirrored { [t[0], t[2], t[1]] } else { tri });
             continue;
         };
         return Err(GlbError::Triangle {

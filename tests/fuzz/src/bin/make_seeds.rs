@@ -42,6 +42,13 @@ fn main() {
         );
         let avatar = likeness_sim::default_avatar::default_avatar_glb().expect("default avatar");
         put(&out.join("large/glb"), "default-avatar.glb", &avatar);
+        let compressed =
+            likeness_sim::compressed_glb::meshopt_compressed(&avatar).expect("compressed");
+        put(
+            &out.join("large/glb"),
+            "default-avatar-meshopt.glb",
+            &compressed,
+        );
     }
     let _ = std::fs::remove_dir_all(&work);
 }
@@ -141,8 +148,8 @@ fn cut_stream(session: Session, keep: usize) -> Session {
     Session::new(parts).expect("a cut session")
 }
 
-/// The tiny avatar as a GLB, dense and smallest, and as a `.gltf` whose
-/// buffer is a `data:` URI.
+/// The tiny avatar as a GLB: dense, smallest, and quantized and
+/// meshopt-compressed.
 fn glb_seeds(out: &Path) {
     let avatar = tiny::avatar();
     let dir = out.join("glb");
@@ -163,6 +170,11 @@ fn glb_seeds(out: &Path) {
         let glb = new_avatar_glb(&avatar, &options, Path::new(name)).expect("tiny GLB");
         put(&dir, name, &glb);
     }
+    // The same, quantized and meshopt-compressed (issue 21).
+    let glb =
+        new_avatar_glb(&avatar, &NewGlbOptions::default(), Path::new("t.glb")).expect("tiny GLB");
+    let compressed = likeness_sim::compressed_glb::meshopt_compressed(&glb).expect("compressed");
+    put(&dir, "tiny-meshopt.glb", &compressed);
 }
 
 /// Capture scripts: the neutral held still, a few gestures, a retake,

@@ -119,7 +119,7 @@ fn every_broken_file_gives_its_typed_error() {
     let e = error_of(|d, _| d["nodes"][1]["mesh"] = json!(7));
     assert!(matches!(e, GlbError::Invalid { .. }), "{e}");
     let e = error_of(|d, _| d["extensionsRequired"] = json!(["KHR_draco_mesh_compression"]));
-    assert!(matches!(e, GlbError::Invalid { .. }), "{e}");
+    assert!(matches!(e, GlbError::Unsupported { .. }), "{e}");
     let e = error_of(|d, _| d["buffers"][0]["byteLength"] = json!(1 << 30));
     assert!(matches!(e, GlbError::Buffer { buffer: 0, .. }), "{e}");
 }
@@ -211,4 +211,81 @@ fn no_corrupted_byte_panics() {
             let _ = read_avatar_bytes(&bad, "flipped.glb");
         }
     }
+}
+
+#[test]
+fn a_mirroring_node_reverses_the_winding() {
+    let (mut doc, bin) = fixture();
+    doc["nodes"][1]["scale"] = json!([-1.0, 1.0, 1.0]);
+    let g = read_avatar_bytes(&glb(&doc, &bin), "mirrored.glb").unwrap();
+    assert_eq!(g.avatar.parts[0].triangles, [[0, 2, 1], [0, 3, 2]]);
+    // Still facing the same way in world space as the unmirrored file.
+    let plain = read_fixture();
+    let normal = |p: &crate::avatar::AvatarPart| {
+        let [a, b, c] = p.triangles[0].map(|i| p.positions[i as usize]);
+        (b - a).cross(c - a).normalize()
+    };
+    let mirror = |v: Vec3| Vec3::new(-v.x, v.y, v.z);
+    let (m, u) = (normal(&g.avatar.parts[0]), normal(&plain.avatar.parts[0]));
+    // Mirroring the head in its own x: the face normal mirrors with it.
+    let world = head_world();
+    let axis = world.transform_vector3(Vec3::X).normalize();
+    let reflected = u - 2.0 * u.dot(axis) * axis;
+    assert!(close(m, reflected), "{m} vs {reflected} ({})", mirror(u));
+}
+
+#[test]
+fn quantized_positions_read_as_floats_and_write_back_as_floats() {
+    let (mut doc, mut bin) = fixture();
+    // The teeth's 3 positions as normalized SHORT, stride 8 (KHR_mesh_quantization).
+    let q: [[i16; 3]; 3] = [[32767, 0, 0], [0, -32767, 0], [0, 0, 16384]];
+    bin.resize(bin.len().next_multiple_of(4), 0);
+    let offset = bin.len();
+    for v in q {
+        for c in v {
+            bin.extend_from_slice(&c.to_le_bytes());
+        }
+        bin.extend_from_slice(&[0, 0]);
+    }
+    doc["buffers"][0]["byteLength"] = json!(bin.len());
+    let views = doc["bufferViews"].as_array_mut().unwrap();
+    views.push(json!({ "buffer": 0, "byteOffset": offset, "byteLength": 24, "byteStride": 8 }));
+    let view = views.len() - 1;
+    let accessors = doc["accessors"].as_array_mut().unwrap();
+    accessors.push(
+        json!({ "bufferView": view, "componentType": 5122, "normalized": true,
+        "count": 3, "type": "VEC3", "min": [0, -32767, 0], "max": [32767, 0, 16384] }),
+    );
+    let a = accessors.len() - 1;
+    doc["meshes"][1]["primitives"][0]["attributes"]["POSITION"] = json!(a);
+    doc["extensionsUsed"] = json!(["EXT_made_up", "KHR_mesh_quantization"]);
+    doc["extensionsRequired"] = json!(["KHR_mesh_quantization"]);
+    let g = read_avatar_bytes(&glb(&doc, &bin), "quantized.glb").unwrap();
+    let teeth = &g.avatar.parts[2].positions;
+    // The teeth's matrix moves them by y − 1.
+    assert!(close(teeth[0], Vec3::new(1.0, -1.0, 0.0)), "{}", teeth[0]);
+    assert!(close(teeth[1], Vec3::new(0.0, -2.0, 0.0)), "{}", teeth[1]);
+    assert!(
+        close(teeth[2], Vec3::new(0.0, -1.0, 16384.0 / 32767.0)),
+        "{}",
+        teeth[2]
+    );
+    assert!(g.json().get("extensionsRequired").is_none());
+    let back = written_back_glb(
+        &g,
+        &NewShapes::new(),
+        TargetEncoding::Smallest,
+        Path::new("b.glb"),
+    )
+    .unwrap();
+    let again = read_avatar_bytes(&back, "b.glb").unwrap();
+    let position = again.json()["meshes"][1]["primitives"][0]["attributes"]["POSITION"]
+        .as_u64()
+        .unwrap();
+    assert_eq!(
+        again.json()["accessors"][position as usize]["componentType"],
+        5126
+    );
+    assert_eq!(again.avatar.parts[2].positions, *teeth);
+    assert_eq!(again.json()["extensionsUsed"], json!(["EXT_made_up"]));
 }

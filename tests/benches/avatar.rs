@@ -1,6 +1,8 @@
 //! Finding the face and Eq. (4) on the default avatar (22,077 vertices in
-//! six meshes, 52 targets): `cargo bench -p likeness-tests --bench avatar`.
-//! Measures; asserts nothing.
+//! six meshes, 52 targets), and finding the face on every generated test
+//! avatar (`likeness_sim::avatar_variants`) and, when present, on
+//! `../shared/avatars/ict-facekit.glb`: `cargo bench -p likeness-tests
+//! --bench avatar`. Measures; asserts nothing.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use likeness::Blendshapes;
@@ -73,5 +75,32 @@ fn avatar(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, avatar);
+/// `find_face` on avatars our mask did not make.
+fn other_avatars(c: &mut Criterion) {
+    let session = likeness::session::file::read(likeness_tests::committed::path(1)).expect("reads");
+    let template = session.template.blendshapes().expect("a template");
+    let mut avatars: Vec<(String, likeness::avatar::Avatar)> =
+        likeness_sim::avatar_variants::avatar_variants()
+            .into_iter()
+            .map(|v| {
+                let glb = read_avatar_bytes(&v.glb, v.name).expect("reads");
+                (v.name.to_string(), glb.avatar)
+            })
+            .collect();
+    let ict = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/avatars/ict-facekit.glb");
+    if let Ok(glb) = likeness::avatar::glb::read_avatar(&ict) {
+        avatars.push(("ict-facekit".into(), glb.avatar));
+    }
+    let mut group = c.benchmark_group("find_face");
+    group.sample_size(10);
+    for (name, avatar) in &avatars {
+        let label = format!("{name} ({} vertices)", avatar.vertex_count());
+        group.bench_function(label, |b| {
+            b.iter(|| find_face(black_box(avatar), &session.topology, &template).expect("a face"))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, avatar, other_avatars);
 criterion_main!(benches);

@@ -2,6 +2,11 @@
 //! 1–4 (see `sim-data/README.md`).
 
 use likeness::Session;
+use likeness::avatar::glb::GlbAvatar;
+use likeness::avatar::personal_avatar::{
+    AvatarError, AvatarShapes, PersonInput, PersonalAvatar, personal_avatar,
+};
+use likeness::personalize::{Method, personalize};
 use likeness::session::file::{self as session_file, SessionFileError};
 use std::path::PathBuf;
 
@@ -17,4 +22,21 @@ pub fn path(seed: u64) -> PathBuf {
 /// Reads the committed session of simulated subject `seed`.
 pub fn read(seed: u64) -> Result<Session, SessionFileError> {
     session_file::read(path(seed))
+}
+
+/// The committed subject `seed` personalized (the product's method) and
+/// implanted into `glb`, as `likeness avatar` does it; the avatar stage's
+/// error if it refuses.
+pub fn personal_avatar_of(seed: u64, glb: &GlbAvatar) -> Result<PersonalAvatar, AvatarError> {
+    let session = read(seed).expect("a committed session reads");
+    let person = personalize(&session, Method::DEFAULT)
+        .expect("a committed session personalizes")
+        .shapes;
+    let rig = session.template.blendshapes().expect("a checked template");
+    let input = PersonInput {
+        mask: &session.topology,
+        rig: &rig,
+        personalized: &person,
+    };
+    personal_avatar(glb, &input, None, AvatarShapes::Personalized, &mut |_| true)
 }

@@ -4,5 +4,6 @@
 //! committed sessions are, and Live Link Face CSV text. See
 //! `tests/README.md` for which kind of test lives where.
 
+pub mod avatar_quality;
 pub mod committed;
 pub mod live_link;

@@ -382,19 +382,18 @@ fn eyes_and_teeth_stay_rigid() {
     }
     assert!(!implanted.rigid_parts.contains(&built.tongue));
     let rest: Vec<glam::DVec3> = avatar.positions().iter().map(|p| p.as_dvec3()).collect();
-    let offsets = avatar.vertex_offsets();
-    for (&part, removed) in implanted
-        .rigid_parts
+    for (piece, removed) in implanted
+        .rigid_pieces
         .iter()
         .zip(&implanted.rigid_deviation_removed)
     {
-        let vertices: Vec<u32> = (offsets[part] as u32..offsets[part + 1] as u32).collect();
+        let (part, vertices) = (piece.part, &piece.vertices);
         let worst = implanted
             .shapes
             .iter()
             .map(|d| {
                 let d: Vec<glam::DVec3> = d.iter().map(|x| x.as_dvec3()).collect();
-                rigid_deviation(&rest, &d, &vertices)
+                rigid_deviation(&rest, &d, vertices)
             })
             .fold(0.0, f64::max);
         eprintln!(
@@ -498,20 +497,10 @@ fn how_far_the_persons_blink_closes_the_avatars_eye() {
     }
 }
 
-/// Möller–Trumbore: whether the ray `o + s d`, `s > 0`, crosses triangle
-/// `abc`.
-fn ray_hits(o: glam::Vec3, d: glam::Vec3, [a, b, c]: [glam::Vec3; 3]) -> bool {
-    let (e1, e2) = (b - a, c - a);
-    let p = d.cross(e2);
-    let det = e1.dot(p);
-    if det.abs() < 1e-12 {
-        return false;
-    }
-    let t = o - a;
-    let u = t.dot(p) / det;
-    let q = t.cross(e1);
-    let v = d.dot(q) / det;
-    u >= 0.0 && v >= 0.0 && u + v <= 1.0 && e2.dot(q) / det > 0.0
+/// Whether the ray `o + s d`, `s > 0`, crosses triangle `abc`
+/// ([`likeness_tests::avatar_quality::ray_hits`], in single precision).
+fn ray_hits(o: glam::Vec3, d: glam::Vec3, t: [glam::Vec3; 3]) -> bool {
+    likeness_tests::avatar_quality::ray_hits(o.as_dvec3(), d.as_dvec3(), t.map(|p| p.as_dvec3()))
 }
 
 /// With the person's blink implanted (committed subject 1), no point of

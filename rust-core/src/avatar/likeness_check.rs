@@ -302,6 +302,9 @@ mod tests {
             residual_max_mm: 0.0,
             icp_iterations: 0,
             eyeball_parts: Vec::new(),
+            eyeballs: Vec::new(),
+            coverage: 1.0,
+            nonrigid_steps: (0, 0),
             face_parts: Vec::new(),
             seconds: 0.0,
         }

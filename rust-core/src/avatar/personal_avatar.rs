@@ -97,11 +97,12 @@ pub enum AvatarWarning {
     MissingShapes(Vec<Blendshape>),
     /// Targets with ARKit names that move nothing.
     StillTargets(Vec<String>),
-    /// No part moves like an eyeball under eyeLook: eyes are not moved and
-    /// eyelid repair is skipped.
+    /// No eyeball found, by shape or by eyeLook
+    /// ([`crate::avatar::registration::eyeballs`]): eyelid repair is
+    /// skipped.
     NoEyeballs,
-    /// No separate rigid part (teeth, tongue) follows the jaw: nothing is
-    /// held rigid.
+    /// No rigid piece (teeth, gums) follows the jaw: the mouth's inside
+    /// is not held rigid.
     NoTeeth,
 }
 
@@ -121,10 +122,10 @@ impl fmt::Display for AvatarWarning {
                 names.join(", ")
             ),
             AvatarWarning::NoEyeballs => f.write_str(
-                "no eyeballs found (no part that eyeLook moves): eyes not moved, eyelid repair skipped",
+                "no eyeballs found (no eye-sized sphere behind the lids, and no part that eyeLook moves): eyelid repair skipped",
             ),
             AvatarWarning::NoTeeth => f.write_str(
-                "no teeth or tongue found (no separate part that moves rigidly): nothing held rigid",
+                "no teeth found (no piece of a mesh that jawOpen moves rigidly): the mouth's inside follows the retargeted shapes as they are",
             ),
         }
     }
@@ -243,7 +244,7 @@ pub fn personal_avatar(
             })?
         }
     };
-    if registration.eyeball_parts.is_empty() {
+    if registration.eyeballs.is_empty() {
         warnings.push(AvatarWarning::NoEyeballs);
     }
 
@@ -294,18 +295,24 @@ pub fn personal_avatar(
     })
 }
 
-/// Whether some part other than the eyeballs is rigid and moves with the
-/// jaw (jawOpen moves it): teeth, gums or a tongue.
+/// Whether some rigid piece other than the eyeballs moves with the jaw
+/// (jawOpen moves it): teeth, gums or a tongue.
 fn has_teeth(avatar: &Avatar, implanted: &Implanted, registration: &FaceRegistration) -> bool {
-    let offsets = avatar.vertex_offsets();
     let jaw = avatar.named_displacement(Blendshape::JawOpen.name());
+    let in_eyeball = |v: u32| {
+        registration
+            .eyeballs
+            .iter()
+            .any(|e| e.binary_search(&v).is_ok())
+    };
     implanted
-        .rigid_parts
+        .rigid_pieces
         .iter()
-        .filter(|p| !registration.eyeball_parts.contains(p))
-        .any(|&p| {
-            jaw.get(offsets[p]..offsets[p + 1])
-                .is_some_and(|d| d.iter().any(|x| *x != Vec3::ZERO))
+        .filter(|p| !p.vertices.iter().any(|&v| in_eyeball(v)))
+        .any(|p| {
+            p.vertices
+                .iter()
+                .any(|&v| jaw.get(v as usize).is_some_and(|x| *x != Vec3::ZERO))
         })
 }
 

@@ -6,7 +6,9 @@
 //! a surface), each triangle into every cell its bounding box overlaps. A
 //! query visits the cells in growing shells around the query point's cell
 //! and stops once the next shell is farther than the best distance found:
-//! the answer is exact, not approximate. Point-to-triangle distance follows
+//! the answer is exact, not approximate. Each triangle carries a bounding
+//! sphere, so a triangle that cannot beat the best found so far is skipped
+//! without the exact test. Point-to-triangle distance follows
 //! Ericson, *Real-Time Collision Detection* (2005), §5.1.5: the closest
 //! point lies in one of the triangle's seven Voronoi regions (three
 //! vertices, three edges, the face), found from the signs of a few dot
@@ -35,6 +37,9 @@ pub struct ClosestPoint {
 pub struct TriangleGrid {
     positions: Vec<DVec3>,
     triangles: Vec<[u32; 3]>,
+    /// Each triangle's bounding sphere: its centroid and the largest
+    /// distance of a corner from it.
+    spheres: Vec<(DVec3, f64)>,
     origin: DVec3,
     cell: f64,
     dims: [usize; 3],
@@ -74,9 +79,22 @@ impl TriangleGrid {
         let dims =
             [extent.x, extent.y, extent.z].map(|e| ((e / cell).floor() as usize + 1).min(256));
         let cells = dims[0] * dims[1] * dims[2];
+        let spheres = triangles
+            .iter()
+            .map(|t| {
+                let corners = t.map(|i| positions[i as usize]);
+                let centre = (corners[0] + corners[1] + corners[2]) / 3.0;
+                let radius = corners
+                    .iter()
+                    .map(|c| (*c - centre).length())
+                    .fold(0.0, f64::max);
+                (centre, radius)
+            })
+            .collect();
         let mut grid = TriangleGrid {
             positions: positions.to_vec(),
             triangles,
+            spheres,
             origin: lo,
             cell,
             dims,
@@ -140,6 +158,35 @@ impl TriangleGrid {
 
     /// The point of the mesh closest to `p` if it is within `max_distance`.
     pub fn closest_within(&self, p: DVec3, max_distance: f64) -> Option<ClosestPoint> {
+        self.closest_where(p, max_distance, |_| true)
+    }
+
+    /// The closest point of `p` among the triangles whose normal makes a
+    /// cosine of at least `min_cosine` with `normal` (a compatible point,
+    /// as in normal-compatible ICP: a vertex just inside a lip finds the
+    /// lip's outer surface, not the mouth's lining behind it), if it is
+    /// within `max_distance`.
+    pub fn closest_facing(
+        &self,
+        p: DVec3,
+        normal: DVec3,
+        min_cosine: f64,
+        max_distance: f64,
+    ) -> Option<ClosestPoint> {
+        self.closest_where(p, max_distance, |t| {
+            self.triangle_normal(t).dot(normal) >= min_cosine
+        })
+    }
+
+    /// The closest point of `p` within `max_distance` among the triangles
+    /// `accept` takes: shells of cells outwards until the next shell is
+    /// farther than the best found (module docs).
+    fn closest_where(
+        &self,
+        p: DVec3,
+        max_distance: f64,
+        accept: impl Fn(usize) -> bool,
+    ) -> Option<ClosestPoint> {
         if self.triangles.is_empty() {
             return None;
         }
@@ -147,16 +194,16 @@ impl TriangleGrid {
         let mut best: Option<ClosestPoint> = None;
         let max_shell = self.dims.iter().max().copied().unwrap_or(1);
         for shell in 0..=max_shell + 1 {
-            // Every point of shell `s` is at least `(s − 1)·cell` away from
-            // p along some axis when p lies in its home cell; when p lies
-            // outside the grid (its home cell clamped onto it), also at
-            // least p's distance from the grid's box.
-            let bound = ((shell as f64 - 1.0).max(0.0) * self.cell).max(self.outside_distance(p));
             let limit = best.map_or(max_distance, |b| b.distance.min(max_distance));
-            if bound > limit {
+            if self.shell_distance(p, home, shell) > limit {
                 break;
             }
             self.for_shell(home, shell, |t| {
+                let limit = best.map_or(max_distance, |b| b.distance.min(max_distance));
+                let (centre, radius) = self.spheres[t];
+                if (p - centre).length() - radius > limit || !accept(t) {
+                    return;
+                }
                 let c = self.closest_on_triangle(t, p);
                 if c.distance <= max_distance && best.is_none_or(|b| c.distance < b.distance) {
                     best = Some(c);
@@ -164,6 +211,31 @@ impl TriangleGrid {
             });
         }
         best
+    }
+
+    /// A lower bound on the distance from `p` (whose cell, clamped onto
+    /// the grid, is `home`) to any point of a cell of shell `shell`: such
+    /// a point lies outside the box of the cells within `shell − 1` of
+    /// `home`, so at least as far as `p` is from that box's nearest face
+    /// (inside it), or from the grid's box (outside the grid).
+    fn shell_distance(&self, p: DVec3, home: [usize; 3], shell: usize) -> f64 {
+        if shell == 0 {
+            return 0.0;
+        }
+        let inner = shell as f64 - 1.0;
+        let q = (p - self.origin) / self.cell;
+        let mut gap = f64::INFINITY;
+        for (axis, v) in [q.x, q.y, q.z].into_iter().enumerate() {
+            let h = home[axis] as f64;
+            // Faces of the inner box that have cells beyond them.
+            if h - inner > 0.0 {
+                gap = gap.min(v - (h - inner));
+            }
+            if h + inner + 1.0 < self.dims[axis] as f64 {
+                gap = gap.min(h + inner + 1.0 - v);
+            }
+        }
+        (gap.max(0.0) * self.cell).max(self.outside_distance(p))
     }
 
     fn closest_on_triangle(&self, t: usize, p: DVec3) -> ClosestPoint {
@@ -224,19 +296,17 @@ impl TriangleGrid {
         for z in (h[2] - s).max(0)..=(h[2] + s).min(d[2] - 1) {
             for y in (h[1] - s).max(0)..=(h[1] + s).min(d[1] - 1) {
                 let on_face = (z - h[2]).abs() == s || (y - h[1]).abs() == s;
-                let xs: Vec<isize> = if on_face {
-                    ((h[0] - s).max(0)..=(h[0] + s).min(d[0] - 1)).collect()
-                } else {
-                    [h[0] - s, h[0] + s]
-                        .into_iter()
-                        .filter(|x| (0..d[0]).contains(x))
-                        .collect::<Vec<_>>()
-                };
-                for x in xs {
-                    let c = self.index([x as usize, y as usize, z as usize]);
-                    for &t in &self.items[self.starts[c]..self.starts[c + 1]] {
-                        visit(t as usize);
+                // On the shell's faces every x; inside, only its two ends.
+                let step = if on_face || s == 0 { 1 } else { 2 * s };
+                let mut x = h[0] - s;
+                while x <= h[0] + s {
+                    if (0..d[0]).contains(&x) {
+                        let c = self.index([x as usize, y as usize, z as usize]);
+                        for &t in &self.items[self.starts[c]..self.starts[c + 1]] {
+                            visit(t as usize);
+                        }
                     }
+                    x += step;
                 }
             }
         }

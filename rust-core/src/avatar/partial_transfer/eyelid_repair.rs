@@ -11,7 +11,10 @@
 //! are closed and face outwards (the default avatar's are tested so); only
 //! skin vertices within the eyeball's radius plus [`NEAR_MM`] of its centre
 //! at rest, and within its bounding sphere in the shape, are looked at (an
-//! eyeball turns about its centre, so the sphere holds it in every shape).
+//! eyeball turns about its centre, so the sphere holds it in every shape),
+//! and only those outside it at rest: a vertex the avatar keeps inside an
+//! eyeball's shell at rest (a lid margin under a cornea shell) is the
+//! rig's own.
 
 use crate::geometry::closest_point::TriangleGrid;
 use glam::DVec3;
@@ -80,6 +83,7 @@ pub fn repair_eyelids(
         .collect();
     for eyeball in eyeballs {
         let grid = TriangleGrid::new(&posed, &eyeball.triangles);
+        let at_rest = TriangleGrid::new(rest, &eyeball.triangles);
         for &v in skin {
             let v = v as usize;
             let (Some(p0), Some(p)) = (rest.get(v), posed.get(v)) else {
@@ -92,17 +96,27 @@ pub fn repair_eyelids(
             {
                 continue;
             }
-            let Some(c) = grid.closest(*p) else {
+            // A vertex the avatar itself keeps inside at rest (a lid
+            // margin tucked under a rig's cornea shell) is the rig's
+            // choice, not a lid passing through.
+            if inside(&at_rest, *p0).is_some() {
                 continue;
-            };
-            let normal = grid.triangle_normal(c.triangle);
-            if (*p - c.point).dot(normal) < 0.0 {
-                displacement[v] = c.point + normal * offset - *p0;
+            }
+            if let Some((point, normal)) = inside(&grid, *p) {
+                displacement[v] = point + normal * offset - *p0;
                 moved += 1;
             }
         }
     }
     moved
+}
+
+/// The closest point of `grid` to `p` and its triangle's normal, if `p`
+/// is on the inner side of it.
+fn inside(grid: &TriangleGrid, p: DVec3) -> Option<(DVec3, DVec3)> {
+    let c = grid.closest(p)?;
+    let normal = grid.triangle_normal(c.triangle);
+    ((p - c.point).dot(normal) < 0.0).then_some((c.point, normal))
 }
 
 #[cfg(test)]

@@ -12,8 +12,8 @@
 //! | §3.3 "deformation transfer to only the avatar's face using the precomputed correspondence mapping" | step 1 | [`face_step`] |
 //! | §3.3 "the vertices in the adjacent area … are non-rigidly deformed from `A_j`" | step 2 | [`adjacent_step`] |
 //! | (beyond the paper) closed eyes stay closed: the lid margins `M` leaves out made to meet | [`lid_contacts`], [`adjacent_step::AdjacentStep::close`] |
-//! | §3.3 "eye balls and teeth … to their desired position" | rigid parts kept rigid | [`rigid_parts`] |
-//! | §3.3 "moving the eyelid vertices to their closest point on the eyeball surface \[2\]" | no lid inside an eyeball | [`eyelid_repair`] |
+//! | §3.3 "eye balls and teeth … to their desired position" | rigid pieces (connected components any own target moves rigidly, in any mesh) kept rigid | [`rigid_parts`] |
+//! | §3.3 "moving the eyelid vertices to their closest point on the eyeball surface \[2\]" | no lid inside an eyeball (eyeballs found by their shape, [`crate::avatar::registration::eyeballs`]) | [`eyelid_repair`] |
 
 pub mod adjacent_step;
 pub mod eyelid_repair;
@@ -30,7 +30,7 @@ use eyelid_repair::{Eyeball, LID_OFFSET_MM, NEAR_MM, repair_eyelids};
 use face_step::{FaceStep, FaceStepError};
 use glam::{DVec3, Vec3};
 use lid_contacts::ClosingEyes;
-use rigid_parts::{RIGID_TOLERANCE, make_rigid};
+use rigid_parts::make_rigid;
 
 /// Skin within this distance of the face region (mm at the mask's scale,
 /// along the surface) joins the adjacent region even where no `A_j` moves
@@ -68,9 +68,12 @@ pub struct Implanted {
     /// Eyes closed on the avatar because the person's closed (shape, eye
     /// pairs; [`lid_contacts`]).
     pub lids_closed: usize,
-    /// The parts found rigid (every avatar target moves them rigidly).
+    /// The parts found wholly rigid (every avatar target moves each of
+    /// their pieces rigidly).
     pub rigid_parts: Vec<usize>,
-    /// For each rigid part, the largest deviation from a rigid motion
+    /// The rigid pieces held rigid ([`rigid_parts::rigid_pieces`]).
+    pub rigid_pieces: Vec<rigid_parts::RigidPiece>,
+    /// For each rigid piece, the largest deviation from a rigid motion
     /// that `A_j` had in any shape, removed (avatar units).
     pub rigid_deviation_removed: Vec<f64>,
 }
@@ -186,8 +189,9 @@ pub fn implant(
     if !closing.close_all(&mut full, full_at, full_close) {
         return Err(ImplantError::Adjacent);
     }
-    // Rigid parts: found from the avatar's own targets, then held rigid.
-    let part_vertices = |i: usize| (offsets[i] as u32..offsets[i + 1] as u32).collect::<Vec<u32>>();
+    // Rigid pieces: each connected component outside the face parts that
+    // every own target moves rigidly (an eyeball; each tooth, or a
+    // teeth-and-gums arch, in a mesh that holds both jaws), held rigid.
     let own: Vec<Vec<DVec3>> = avatar
         .target_ids()
         .into_iter()
@@ -199,36 +203,21 @@ pub fn implant(
                 .collect()
         })
         .collect();
-    let rigid_parts: Vec<usize> = (0..avatar.parts.len())
-        .filter(|&i| !registration.face_parts.contains(&i))
-        .filter(|&i| {
-            let vertices = part_vertices(i);
-            let tolerance = RIGID_TOLERANCE * rigid_parts::size(&positions, &vertices);
-            vertices.len() >= 3
-                && own
-                    .iter()
-                    .all(|d| rigid_parts::rigid_deviation(&positions, d, &vertices) <= tolerance)
-        })
-        .collect();
-    let rigid_deviation_removed: Vec<f64> = rigid_parts
+    let pieces = rigid_parts::rigid_pieces(avatar, &positions, &own, &registration.face_parts);
+    let rigid_deviation_removed: Vec<f64> = pieces
         .iter()
-        .map(|&i| {
-            let vertices = part_vertices(i);
+        .map(|piece| {
             full.iter_mut()
-                .map(|d| make_rigid(&positions, d, &vertices))
+                .map(|d| make_rigid(&positions, d, &piece.vertices))
                 .fold(0.0, f64::max)
         })
         .collect();
 
     // Eyelid repair.
     let eyeballs: Vec<Eyeball> = registration
-        .eyeball_parts
+        .eyeballs
         .iter()
-        .filter_map(|&i| Some((avatar.parts.get(i)?, offsets[i] as u32)))
-        .map(|(part, o)| {
-            let triangles = part.triangles.iter().map(|t| t.map(|v| v + o)).collect();
-            Eyeball::new(&positions, triangles)
-        })
+        .map(|vertices| Eyeball::new(&positions, triangles_within(avatar, vertices)))
         .collect();
     let skin: Vec<u32> = (0..n as u32)
         .filter(|&v| in_face_parts[v as usize])
@@ -273,7 +262,24 @@ pub fn implant(
         adjacent_vertices: adjacent.region().len(),
         lids_repaired,
         lids_closed: closing.count(),
-        rigid_parts,
+        rigid_parts: rigid_parts::wholly_rigid_parts(avatar, &pieces),
+        rigid_pieces: pieces,
         rigid_deviation_removed,
     })
+}
+
+/// The avatar's triangles (global indices) whose corners are all in
+/// `vertices` (increasing).
+fn triangles_within(avatar: &Avatar, vertices: &[u32]) -> Vec<[u32; 3]> {
+    let offsets = avatar.vertex_offsets();
+    avatar
+        .parts
+        .iter()
+        .enumerate()
+        .flat_map(|(i, part)| {
+            let o = offsets[i] as u32;
+            part.triangles.iter().map(move |t| t.map(|v| v + o))
+        })
+        .filter(|t| t.iter().all(|v| vertices.binary_search(v).is_ok()))
+        .collect()
 }

@@ -1,19 +1,101 @@
 //! Rigid parts stay rigid (§3.3: "the approximations `A_j` also bring
 //! facial details not included in the ARKit mesh (eye balls and teeth) to
-//! their desired position"). A part is rigid when every one of the
-//! avatar's own targets moves it rigidly (within [`RIGID_TOLERANCE`] of its
-//! size): eyeballs, teeth, the upper gums. `A_j` mixes several targets, and
+//! their desired position"). A piece (a connected component of a part
+//! outside the face) is rigid when every one of the avatar's own targets
+//! moves it rigidly (within [`RIGID_TOLERANCE`] of its size): eyeballs,
+//! teeth, the gums, whether each is a mesh of its own or both jaws share
+//! one ([`rigid_pieces`]). `A_j` mixes several targets, and
 //! a sum of rotations is not a rotation: a rigid part's displacement in a
 //! shape is replaced by the rigid motion closest to it (least squares,
 //! [`fit_rigid`]). The largest deviation from a rigid motion, before and
 //! after, is reported per shape.
 
+use crate::avatar::model::Avatar;
 use crate::avatar::registration::similarity::fit_rigid;
+use crate::geometry::connected_components::component_vertices;
 use glam::DVec3;
 
-/// Largest deviation from a rigid motion, relative to the part's size
-/// (RMS radius), for a target to count as moving the part rigidly.
-pub const RIGID_TOLERANCE: f64 = 1e-4;
+/// A connected piece of the avatar that every own target moves rigidly.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RigidPiece {
+    /// The part (index into `Avatar::parts`) it belongs to.
+    pub part: usize,
+    /// Its avatar vertices (global indices), increasing.
+    pub vertices: Vec<u32>,
+}
+
+/// The rigid pieces of `avatar` (rest `positions`, own target
+/// displacements `own`): in each part not in `face_parts`, the connected
+/// components that each target moves rigidly within [`RIGID_TOLERANCE`]
+/// of their size, gathered greedily into groups that move as one rigid
+/// body (the teeth of one jaw, whether one mesh or one component each).
+/// Pieces, not parts: many rigs keep both jaws' teeth and the gums in one
+/// mesh, where only the lower arch follows `jawOpen`.
+pub fn rigid_pieces(
+    avatar: &Avatar,
+    positions: &[DVec3],
+    own: &[Vec<DVec3>],
+    face_parts: &[usize],
+) -> Vec<RigidPiece> {
+    let offsets = avatar.vertex_offsets();
+    let rigid = |vertices: &[u32]| {
+        let tolerance = RIGID_TOLERANCE * size(positions, vertices);
+        vertices.len() >= 3
+            && own
+                .iter()
+                .all(|d| rigid_deviation(positions, d, vertices) <= tolerance)
+    };
+    let mut pieces: Vec<RigidPiece> = Vec::new();
+    for (i, part) in avatar.parts.iter().enumerate() {
+        if face_parts.contains(&i) {
+            continue;
+        }
+        let o = offsets[i] as u32;
+        let first = pieces.len();
+        for component in component_vertices(part.positions.len(), &part.triangles) {
+            let vertices: Vec<u32> = component.into_iter().map(|v| v + o).collect();
+            if !rigid(&vertices) {
+                continue;
+            }
+            let joined = pieces[first..].iter_mut().find_map(|piece| {
+                let mut union = piece.vertices.clone();
+                union.extend(&vertices);
+                rigid(&union).then(|| {
+                    union.sort_unstable();
+                    piece.vertices = union;
+                })
+            });
+            if joined.is_none() {
+                pieces.push(RigidPiece { part: i, vertices });
+            }
+        }
+    }
+    pieces
+}
+
+/// The parts every vertex of which lies in some piece of `pieces`.
+pub fn wholly_rigid_parts(avatar: &Avatar, pieces: &[RigidPiece]) -> Vec<usize> {
+    let offsets = avatar.vertex_offsets();
+    (0..avatar.parts.len())
+        .filter(|&i| {
+            let count: usize = pieces
+                .iter()
+                .filter(|p| p.part == i)
+                .map(|p| p.vertices.len())
+                .sum();
+            count > 0 && count == offsets[i + 1] - offsets[i]
+        })
+        .collect()
+}
+
+/// Largest deviation from a rigid motion, relative to the piece's size
+/// (RMS radius), for a target to count as moving it rigidly. Rigs sculpt
+/// their jaw shapes, so teeth that a bone would turn rigidly come out a
+/// little deformed (a few per cent of a tooth's size; ICT-FaceKit's lower
+/// teeth up to 2%), while parts that really bend are far off (a tongue
+/// under tongueOut, the gums under jawOpen: 30% and more): the bound sits
+/// between the two.
+pub const RIGID_TOLERANCE: f64 = 0.05;
 
 /// The largest distance between `rest + displacement` and the rigid motion
 /// closest to it, over `vertices`; 0 for fewer than three.

@@ -39,19 +39,32 @@ pub const OPTIONAL: [Blendshape; 5] = [
 
 /// The feature of one shape (module docs): `None` when it moves nothing.
 pub fn feature_point(rest: &[DVec3], displacement: &[DVec3]) -> Option<DVec3> {
+    let weights = feature_weights(displacement)?;
+    Some(
+        weights
+            .iter()
+            .map(|&(v, w)| rest.get(v).copied().unwrap_or(DVec3::ZERO) * w)
+            .sum(),
+    )
+}
+
+/// The feature of one shape as a combination of vertices: each vertex
+/// that moves at least κ of the most, weighted by its motion, the weights
+/// summing to one (module docs); `None` when the shape moves nothing.
+pub fn feature_weights(displacement: &[DVec3]) -> Option<Vec<(usize, f64)>> {
     let motion: Vec<f64> = displacement.iter().map(|d| d.length()).collect();
     let largest = motion.iter().copied().fold(0.0, f64::max);
     if !(largest > 0.0 && largest.is_finite()) {
         return None;
     }
-    let (mut sum, mut weight) = (DVec3::ZERO, 0.0);
-    for (p, m) in rest.iter().zip(&motion) {
-        if *m >= FEATURE_SHARE * largest {
-            sum += *p * *m;
-            weight += m;
-        }
-    }
-    (weight > 0.0).then(|| sum / weight)
+    let chosen: Vec<(usize, f64)> = motion
+        .iter()
+        .enumerate()
+        .filter(|(_, m)| **m >= FEATURE_SHARE * largest)
+        .map(|(v, m)| (v, *m))
+        .collect();
+    let total: f64 = chosen.iter().map(|c| c.1).sum();
+    (total > 0.0).then(|| chosen.into_iter().map(|(v, m)| (v, m / total)).collect())
 }
 
 /// Features of a rig with rest positions `rest` and per-shape displacements

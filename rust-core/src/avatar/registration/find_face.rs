@@ -1,22 +1,38 @@
 //! Finding the face on an avatar, fully automatically (§3.3): features
 //! from both rigs' blendshapes place the mask roughly ([`super::features`]),
-//! ICP with scale refines the placement ([`super::rigid_icp`]), non-rigid
-//! registration lays the mask onto the avatar's skin
-//! ([`super::nonrigid`]), and the correspondence map `M` is read off
-//! ([`super::correspondence`]). Done once per avatar topology; the result
-//! is cached by the caller under [`cache_key`].
+//! ICP with scale refines the placement ([`super::rigid_icp`]), optimal-step
+//! non-rigid ICP lays the mask onto the avatar's skin, the features held as
+//! landmarks while it is stiff ([`super::nonrigid`]), and the
+//! correspondence map `M` is read off ([`super::correspondence`]). Done
+//! once per avatar topology; the result is cached by the caller under
+//! [`cache_key`].
 //!
-//! The avatar's eyeballs are left out of the surface the mask is fitted
-//! to (the mask's lids would otherwise find the eyeball behind them): a
-//! part is an eyeball when some eyeLook shape moves at least
-//! [`EYEBALL_SHARE`] of its vertices. The face region is then taken only
-//! from the parts the registered mask lies on (at least [`FACE_PART_SHARE`]
-//! of its vertices closest to them): teeth and gums a millimetre behind
-//! the lips are within reach of the mask but are not the face.
+//! Only the avatar's triangles near the placed mask take part (within
+//! [`REACH`] of the mask's radius of its centre): on a full-body avatar
+//! the hands and feet are never the face, and leaving them out keeps the
+//! closest-point grid fine. Of those, only the triangles seen from in
+//! front of the placed mask take part
+//! ([`crate::geometry::front_visibility`]): the ARKit mask is the surface
+//! a depth camera sees, so teeth behind closed lips, the mouth's lining
+//! and the inside of the nostrils are never its place. The eyeballs
+//! ([`super::eyeballs`]) are left out too (the mask's lids would
+//! otherwise find the eyeball behind them). The face region is then taken only from the parts the
+//! registered mask lies on (at least [`FACE_PART_SHARE`] of its vertices
+//! closest to them): teeth and gums a millimetre behind the lips are
+//! within reach of the mask but are not the face.
+//!
+//! Whether a face was found does not depend on how closely the mask's
+//! face and the avatar's agree in shape (the non-rigid step absorbs
+//! that), only on whether the mask could be laid onto the avatar: at
+//! least [`MIN_COVERAGE`] of the mask's vertices must end on the avatar
+//! (close, facing the same way), and there lie within
+//! [`MAX_MEAN_RESIDUAL_MM`] of it on average, in millimetres of the
+//! mask's scale, i.e. relative to the face's size.
 
 use super::correspondence::{CorrespondenceMap, correspondence_map};
-use super::features::{REQUIRED, rig_features};
-use super::nonrigid::register_nonrigid;
+use super::eyeballs::find_eyeballs;
+use super::features::{REQUIRED, feature_weights, rig_features};
+use super::nonrigid::{Landmark, MIN_NORMAL_DOT, SEARCH_RADIUS, register_nonrigid, vertex_normals};
 use super::rigid_icp::icp_with_scale;
 use super::similarity::{Similarity, fit_similarity};
 use crate::arkit::{Blendshape, Blendshapes};
@@ -24,13 +40,10 @@ use crate::avatar::model::Avatar;
 use crate::avatar::target_names::arkit_targets;
 use crate::geometry::Topology;
 use crate::geometry::closest_point::TriangleGrid;
+use crate::geometry::front_visibility::visible_from;
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
-
-/// Share of a part's vertices an eyeLook shape must move for the part to
-/// count as an eyeball.
-pub const EYEBALL_SHARE: f64 = 0.9;
 
 /// Share of the registered mask's vertices that must lie closest to a part
 /// for the part to hold face region.
@@ -41,9 +54,28 @@ pub const FACE_PART_SHARE: f64 = 0.05;
 /// same on any avatar units).
 pub const FACE_TOLERANCE_MM: f64 = 2.0;
 
-/// The largest mean distance (mm, mask scale) of the registered mask from
-/// the avatar's skin that still counts as a face found.
-pub const MAX_MEAN_RESIDUAL_MM: f64 = 2.0;
+/// The largest mean distance (mm, mask scale) of the registered mask's
+/// kept vertices from the avatar's skin that still counts as a face found.
+pub const MAX_MEAN_RESIDUAL_MM: f64 = 0.5;
+
+/// The smallest share of the mask's vertices that must end on the avatar.
+pub const MIN_COVERAGE: f64 = 0.7;
+
+/// Avatar triangles with a corner within this many mask radii (largest
+/// distance of a placed mask vertex from its centre) of the mask's centre
+/// take part in the registration.
+pub const REACH: f64 = 1.5;
+
+/// Landmarks leave feature disagreements below this alone (mm, mask
+/// scale; [`super::nonrigid::Landmark::slack`]): a blink's or the jaw's
+/// feature, a motion-weighted mean over a few dozen vertices, moves by
+/// about this much between two samplings of one rig.
+pub const LANDMARK_SLACK_MM: f64 = 0.5;
+
+/// Pixel side of the depth buffer that decides which skin the mask may
+/// lie on (mm, mask scale): finer than the few millimetres between lips
+/// and teeth.
+pub const VISIBILITY_PIXEL_MM: f64 = 0.5;
 
 /// The largest RMS disagreement of the features after their similarity
 /// fit, as a share of the distance between the eyes, for them to be where
@@ -62,10 +94,19 @@ pub enum RegistrationError {
     #[error("the avatar's eyeBlink and jawOpen targets are not where a face has them (features disagree by {misfit:.0}% of the eye distance, at most {max:.0}%)", misfit = 100.0 * .0, max = 100.0 * MAX_FEATURE_MISFIT)]
     FeaturesNotFaceLike(f64),
     /// The mask could not be laid onto the avatar closely enough.
-    #[error("no face found: the registered mask stays {mean_mm:.2} mm from the avatar's skin on average (at most {max:.1} mm)", max = MAX_MEAN_RESIDUAL_MM)]
+    #[error("no face found: where the registered mask lies on the avatar it stays {mean_mm:.2} mm from the skin on average (at most {max:.1} mm, in millimetres of a human face's size)", max = MAX_MEAN_RESIDUAL_MM)]
     ResidualTooLarge {
         /// The mean distance reached (mm, mask scale).
         mean_mm: f64,
+    },
+    /// Too little of the mask could be laid onto the avatar.
+    #[error("no face found: only {share:.0}% of the registered mask lies on the avatar's skin (at least {min:.0}%); the rest found no surface facing the same way, mostly around the {region}", share = 100.0 * .share, min = 100.0 * MIN_COVERAGE)]
+    TooLittleCovered {
+        /// The share of mask vertices that ended on the avatar.
+        share: f64,
+        /// Where most of the uncovered vertices are (`forehead`, `chin`,
+        /// `left cheek`, …), for the message.
+        region: String,
     },
     /// A registration system could not be solved.
     #[error(
@@ -90,8 +131,15 @@ pub struct FaceRegistration {
     pub residual_max_mm: f64,
     /// ICP iterations run.
     pub icp_iterations: usize,
-    /// Parts taken for eyeballs (indices into `Avatar::parts`).
+    /// Parts taken wholly for eyeballs (indices into `Avatar::parts`).
     pub eyeball_parts: Vec<usize>,
+    /// Each eyeball found ([`super::eyeballs`]): its avatar vertices, in
+    /// whatever parts they are.
+    pub eyeballs: Vec<Vec<u32>>,
+    /// Share of the mask's vertices that ended on the avatar's skin.
+    pub coverage: f64,
+    /// Stiffness stages and closest-point steps of the non-rigid fit.
+    pub nonrigid_steps: (usize, usize),
     /// Parts the face region was taken from.
     pub face_parts: Vec<usize>,
     /// Time the registration took (s).
@@ -125,22 +173,6 @@ pub fn find_face(
     let started = Instant::now();
     let positions: Vec<DVec3> = avatar.positions().iter().map(|p| p.as_dvec3()).collect();
     let offsets = avatar.vertex_offsets();
-    let eyeball_parts = eyeball_parts(avatar, &offsets);
-    let mut skin_triangles: Vec<[u32; 3]> = Vec::new();
-    let mut part_of_triangle: Vec<usize> = Vec::new();
-    for (i, part) in avatar.parts.iter().enumerate() {
-        if eyeball_parts.contains(&i) {
-            continue;
-        }
-        let o = offsets[i] as u32;
-        for t in &part.triangles {
-            if t.iter().all(|&v| (v as usize) < part.positions.len()) {
-                skin_triangles.push(t.map(|v| v + o));
-                part_of_triangle.push(i);
-            }
-        }
-    }
-    let skin = TriangleGrid::new(&positions, &skin_triangles);
 
     // Features, then the similarity they imply.
     let mask_features = rig_features(rig.neutral(), |b| Some(rig.delta(b).to_vec()));
@@ -152,10 +184,12 @@ pub fn find_face(
     if !missing.is_empty() {
         return Err(RegistrationError::MissingFeatureShapes(missing));
     }
-    let (p, q): (Vec<DVec3>, Vec<DVec3>) = mask_features
+    let matched: Vec<(Blendshape, DVec3, DVec3)> = mask_features
         .iter()
-        .filter_map(|(b, f)| Some((*f, avatar_features.iter().find(|a| a.0 == *b)?.1)))
-        .unzip();
+        .filter_map(|(b, f)| Some((*b, *f, avatar_features.iter().find(|a| a.0 == *b)?.1)))
+        .collect();
+    let p: Vec<DVec3> = matched.iter().map(|m| m.1).collect();
+    let q: Vec<DVec3> = matched.iter().map(|m| m.2).collect();
     let initial = fit_similarity(&p, &q, &vec![1.0; p.len()])
         .ok_or(RegistrationError::FeaturesNotFaceLike(f64::INFINITY))?;
     let eye_distance = (p[0] - p[1]).length() * initial.scale;
@@ -171,33 +205,117 @@ pub fn find_face(
         return Err(RegistrationError::FeaturesNotFaceLike(misfit));
     }
 
-    // ICP with scale, then non-rigid.
-    let icp = icp_with_scale(rig.neutral(), &skin, initial);
+    // The eyeballs, then the skin near the placed mask.
+    let looks: Vec<Vec<DVec3>> = [
+        Blendshape::EyeLookOutLeft,
+        Blendshape::EyeLookOutRight,
+        Blendshape::EyeLookUpLeft,
+        Blendshape::EyeLookUpRight,
+    ]
+    .iter()
+    .filter_map(|b| arkit_displacement(avatar, *b))
+    .collect();
+    let mm = initial.scale / 1000.0;
+    let eyeballs: Vec<Vec<u32>> = find_eyeballs(avatar, &positions, &[q[0], q[1]], mm, &looks)
+        .into_iter()
+        .map(|e| e.vertices)
+        .collect();
+    let mut is_eyeball = vec![false; positions.len()];
+    for &v in eyeballs.iter().flatten() {
+        is_eyeball[v as usize] = true;
+    }
+    let placed_initial: Vec<DVec3> = rig.neutral().iter().map(|p| initial.apply(*p)).collect();
+    let centre = placed_initial.iter().sum::<DVec3>() / placed_initial.len().max(1) as f64;
+    let reach = REACH
+        * placed_initial
+            .iter()
+            .map(|p| (*p - centre).length())
+            .fold(0.0, f64::max);
+    let mut near_triangles: Vec<([u32; 3], usize)> = Vec::new();
+    for (i, part) in avatar.parts.iter().enumerate() {
+        let o = offsets[i] as u32;
+        for t in &part.triangles {
+            let t = t.map(|v| v + o);
+            if t.iter()
+                .any(|&v| (positions[v as usize] - centre).length() <= reach)
+            {
+                near_triangles.push((t, i));
+            }
+        }
+    }
+    // Only the skin a depth camera in front of the face would see: the
+    // ARKit mask is that surface (`front_visibility`).
+    let towards_viewer = initial.rotation * DVec3::Z;
+    let seen = visible_from(
+        &positions,
+        &near_triangles.iter().map(|t| t.0).collect::<Vec<_>>(),
+        towards_viewer,
+        VISIBILITY_PIXEL_MM * mm,
+    );
+    let (skin_triangles, part_of_triangle): (Vec<[u32; 3]>, Vec<usize>) = near_triangles
+        .into_iter()
+        .zip(seen)
+        .filter(|((t, _), seen)| *seen && !t.iter().any(|&v| is_eyeball[v as usize]))
+        .map(|(t, _)| t)
+        .unzip();
+    let skin = TriangleGrid::new(&positions, &skin_triangles);
+
+    // ICP with scale, then non-rigid, the features as landmarks.
+    let mask_normals = vertex_normals(rig.neutral(), mask.triangles());
+    let icp = icp_with_scale(rig.neutral(), &mask_normals, &skin, initial);
     let placed: Vec<DVec3> = rig
         .neutral()
         .iter()
         .map(|p| icp.similarity.apply(*p))
         .collect();
-    let registered =
-        register_nonrigid(&placed, mask.triangles(), &skin).ok_or(RegistrationError::Unsolvable)?;
+    let landmarks: Vec<Landmark> = matched
+        .iter()
+        .filter_map(|(b, _, target)| {
+            Some(Landmark {
+                mask: feature_weights(rig.delta(*b))?,
+                target: *target,
+                slack: LANDMARK_SLACK_MM * mm,
+            })
+        })
+        .collect();
+    let registered = register_nonrigid(&placed, mask.triangles(), &skin, &landmarks)
+        .ok_or(RegistrationError::Unsolvable)?;
     let to_mm = 1000.0 / icp.similarity.scale;
-    let finite: Vec<f64> = registered
+    let kept: Vec<f64> = registered
         .distances
         .iter()
-        .copied()
-        .filter(|d| d.is_finite())
+        .zip(&registered.kept)
+        .filter(|(d, k)| **k && d.is_finite())
+        .map(|(d, _)| *d)
         .collect();
-    let residual_mean_mm = finite.iter().sum::<f64>() / finite.len().max(1) as f64 * to_mm;
-    let residual_max_mm = finite.iter().copied().fold(0.0, f64::max) * to_mm;
+    let coverage = kept.len() as f64 / registered.positions.len().max(1) as f64;
+    let residual_mean_mm = kept.iter().sum::<f64>() / kept.len().max(1) as f64 * to_mm;
+    let residual_max_mm = kept.iter().copied().fold(0.0, f64::max) * to_mm;
+    if coverage.is_nan() || coverage < MIN_COVERAGE {
+        return Err(RegistrationError::TooLittleCovered {
+            share: coverage,
+            region: uncovered_region(rig.neutral(), &registered.kept),
+        });
+    }
     if residual_mean_mm.is_nan() || residual_mean_mm > MAX_MEAN_RESIDUAL_MM {
         return Err(RegistrationError::ResidualTooLarge {
             mean_mm: residual_mean_mm,
         });
     }
 
+    // Each kept vertex votes for the part of its compatible closest point
+    // (the lips' vertices for the lips, not the gums behind them).
     let mut hits = vec![0usize; avatar.parts.len()];
-    for p in &registered.positions {
-        if let Some(c) = skin.closest(*p)
+    let normals = vertex_normals(&registered.positions, mask.triangles());
+    let search = SEARCH_RADIUS * reach / REACH;
+    for ((p, normal), _) in registered
+        .positions
+        .iter()
+        .zip(&normals)
+        .zip(&registered.kept)
+        .filter(|(_, kept)| **kept)
+    {
+        if let Some(c) = skin.closest_facing(*p, *normal, MIN_NORMAL_DOT, search)
             && let Some(&part) = part_of_triangle.get(c.triangle)
         {
             hits[part] += 1;
@@ -207,21 +325,21 @@ pub fn find_face(
     let face_parts: Vec<usize> = (0..avatar.parts.len())
         .filter(|&i| hits[i] as f64 >= needed)
         .collect();
-    let candidates = avatar
-        .parts
+    let candidates = face_parts
         .iter()
-        .enumerate()
-        .filter(|(i, _)| face_parts.contains(i))
-        .flat_map(|(i, part)| {
-            (offsets[i]..offsets[i] + part.positions.len()).map(|v| (v, positions[v]))
-        });
-    let tolerance = FACE_TOLERANCE_MM / to_mm;
+        .flat_map(|&i| offsets[i]..offsets[i + 1])
+        .filter(|&v| !is_eyeball[v])
+        .map(|v| (v, positions[v]));
     let map = correspondence_map(
         candidates,
         &registered.positions,
         mask.triangles(),
-        tolerance,
+        FACE_TOLERANCE_MM / to_mm,
     );
+    let eyeball_parts = (0..avatar.parts.len())
+        .filter(|&i| offsets[i] < offsets[i + 1])
+        .filter(|&i| (offsets[i]..offsets[i + 1]).all(|v| is_eyeball[v]))
+        .collect();
     Ok(FaceRegistration {
         similarity: icp.similarity,
         mask_on_avatar: registered.positions,
@@ -230,46 +348,45 @@ pub fn find_face(
         residual_max_mm,
         icp_iterations: icp.iterations,
         eyeball_parts,
+        eyeballs,
+        coverage,
+        nonrigid_steps: (registered.stages, registered.steps),
         face_parts,
         seconds: started.elapsed().as_secs_f64(),
     })
 }
 
-/// The parts that some eyeLook shape moves almost entirely (module docs).
-fn eyeball_parts(avatar: &Avatar, offsets: &[usize]) -> Vec<usize> {
-    let looks = [
-        Blendshape::EyeLookOutLeft,
-        Blendshape::EyeLookOutRight,
-        Blendshape::EyeLookUpLeft,
-        Blendshape::EyeLookUpRight,
+/// Where on the mask (ARKit's face coordinates, metres: +x the person's
+/// left, +y up) most of the vertices not `kept` are, in words.
+fn uncovered_region(neutral: &[DVec3], kept: &[bool]) -> String {
+    const NAMES: [&str; 6] = [
+        "forehead",
+        "left eye",
+        "right eye",
+        "left cheek",
+        "right cheek",
+        "mouth and chin",
     ];
-    let fields: Vec<Vec<DVec3>> = looks
-        .iter()
-        .filter_map(|b| arkit_displacement(avatar, *b))
-        .collect();
-    let largest = fields
-        .iter()
-        .flatten()
-        .map(|d| d.length())
-        .fold(0.0, f64::max);
-    (0..avatar.parts.len())
-        .filter(|&i| {
-            let range = offsets[i]..offsets[i + 1];
-            !range.is_empty()
-                && fields.iter().any(|f| {
-                    let moved = f[range.clone()]
-                        .iter()
-                        .filter(|d| d.length() > 1e-3 * largest)
-                        .count();
-                    moved as f64 >= EYEBALL_SHARE * range.len() as f64
-                })
-        })
-        .collect()
+    let centre = neutral.iter().sum::<DVec3>() / neutral.len().max(1) as f64;
+    let mut counts = [0usize; 6];
+    for (p, _) in neutral.iter().zip(kept).filter(|(_, k)| !**k) {
+        let d = *p - centre;
+        let side = usize::from(d.x <= 0.0);
+        let region = match d.y {
+            y if y > 0.035 => 0,
+            y if y > 0.01 => 1 + side,
+            y if y > -0.02 => 3 + side,
+            _ => 5,
+        };
+        counts[region] += 1;
+    }
+    let most = (0..6).max_by_key(|&i| counts[i]).unwrap_or(0);
+    NAMES[most].to_string()
 }
 
 /// Version of the registration's rules: part of the cache key, so a cached
 /// result from older rules is never taken for a new one.
-pub const REGISTRATION_VERSION: u32 = 1;
+pub const REGISTRATION_VERSION: u32 = 2;
 
 /// The key a registration is cached under: the rules' version, the
 /// avatar's vertex count and a CRC-32 of its rest geometry and triangles

@@ -7,12 +7,14 @@
 //! | §3.3 "ICP with scaling \[52\]" | least-squares similarity of point pairs (Umeyama 1991) | [`similarity`] |
 //! | §3.3, beyond the paper: no hand-placed landmarks | where eyeBlink, jawOpen, … move most on each rig | [`features`] |
 //! | §3.3 "ICP with scaling \[52\]" (Zinßer et al. 2005) | the mask placed on the avatar by a similarity | [`rigid_icp`] |
-//! | §3.3 "non-rigid registration \[1\]" (Achenbach et al. 2017) | the mask laid onto the avatar's skin | [`nonrigid`] |
+//! | §3.3 "non-rigid registration \[1\]"; optimal-step NICP (Amberg et al. 2007) | the mask laid onto the avatar's skin, features as landmarks | [`nonrigid`] |
+//! | §3.3 "eye balls", on any rig | eyeballs found by their shape, behind the lids | [`eyeballs`] |
 //! | §3.3 "correspondence map M" | avatar face vertices → mask triangle + barycentrics | [`correspondence`] |
 //! | §3.3, once per avatar topology | the whole search, its report and errors, the cache key | [`mod@find_face`] |
 //! | §3.3 "computed only once" | the registration kept in a file per avatar | [`cache`] |
 pub mod cache;
 pub mod correspondence;
+pub mod eyeballs;
 pub mod features;
 pub mod find_face;
 pub mod nonrigid;

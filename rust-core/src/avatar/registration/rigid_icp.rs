@@ -3,12 +3,16 @@
 //! mask's vertices are moved by a similarity onto the avatar's surface.
 //!
 //! Each iteration pairs every transformed mask vertex `x_i` with its
-//! closest point `c_i` on the avatar (normal `n_i`, that of the triangle it
-//! lies on) and drops the pairs farther than [`TRIM`] times the median pair
+//! closest compatible point `c_i` on the avatar (normal `n_i`, that of the
+//! triangle it lies on, within [`MIN_NORMAL_DOT`] in cosine of the mask's
+//! vertex normal turned by the current rotation; within [`SEARCH_RADIUS`]) and drops the pairs farther than [`TRIM`] times the median pair
 //! distance (the mask's rim reaching past an avatar's hairline, or the eye
 //! holes facing the eyeballs; pairs closer than [`KEEP_WITHIN`] of the
 //! mask's radius are always kept, so a mask that already lies on the
-//! surface is not trimmed at random).
+//! surface is not trimmed at random). Compatible normals matter where the
+//! mask starts a little inside the avatar: the plain closest point of a
+//! vertex behind the lips is the mouth's lining, which faces the other
+//! way and would pull the mask further in.
 //!
 //! The first [`POINT_TO_POINT_ITERATIONS`] iterations refit the similarity
 //! from the original mask to the kept closest points
@@ -24,8 +28,11 @@
 //! ```
 //!
 //! `R(ω)` the rotation by angle `‖ω‖` about `ω` (Rodrigues). It stops when
-//! an iteration moves the mask's vertices by less than [`TOLERANCE`] of the
-//! mask's size (RMS), or after [`MAX_ITERATIONS`].
+//! a point-to-plane iteration moves the mask's vertices by less than
+//! [`TOLERANCE`] of the mask's size (RMS), or after [`MAX_ITERATIONS`]
+//! (on a face of other proportions the compatible pairs keep changing a
+//! little and ICP would creep on; the non-rigid step takes over from
+//! there).
 
 use super::similarity::{Similarity, fit_similarity};
 use crate::geometry::closest_point::TriangleGrid;
@@ -36,6 +43,15 @@ use glam::{DMat3, DVec3};
 /// Pairs farther than this many median distances are dropped.
 pub const TRIM: f64 = 2.5;
 
+/// Smallest cosine between the mask's and the avatar's normals for a pair
+/// to be kept (60°, as in the non-rigid step).
+pub const MIN_NORMAL_DOT: f64 = 0.5;
+
+/// Compatible points are sought within this share of the mask's RMS
+/// radius (about 1.5 cm on a human face); a vertex with none that near
+/// takes no part in the iteration.
+pub const SEARCH_RADIUS: f64 = 0.25;
+
 /// Pairs closer than this share of the mask's RMS radius are always kept.
 pub const KEEP_WITHIN: f64 = 1e-3;
 
@@ -43,11 +59,12 @@ pub const KEEP_WITHIN: f64 = 1e-3;
 pub const POINT_TO_POINT_ITERATIONS: usize = 10;
 
 /// RMS motion of the mask in one iteration, relative to the mask's RMS
-/// radius, below which ICP stops.
-pub const TOLERANCE: f64 = 1e-7;
+/// radius, below which ICP stops (about 6 µm on a human face), judged on
+/// the point-to-plane iterations only.
+pub const TOLERANCE: f64 = 1e-4;
 
 /// Most iterations.
-pub const MAX_ITERATIONS: usize = 100;
+pub const MAX_ITERATIONS: usize = 30;
 
 /// What ICP reached.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -64,8 +81,14 @@ pub struct IcpResult {
 type Pair = (DVec3, DVec3, f64);
 
 /// Refines `initial` (mask → avatar) by ICP with scale against the
-/// surface in `target` (module docs).
-pub fn icp_with_scale(mask: &[DVec3], target: &TriangleGrid, initial: Similarity) -> IcpResult {
+/// surface in `target` (module docs); `normals` are the mask's vertex
+/// normals.
+pub fn icp_with_scale(
+    mask: &[DVec3],
+    normals: &[DVec3],
+    target: &TriangleGrid,
+    initial: Similarity,
+) -> IcpResult {
     let n = mask.len().max(1) as f64;
     let centre = mask.iter().sum::<DVec3>() / n;
     let radius = (mask
@@ -82,22 +105,26 @@ pub fn icp_with_scale(mask: &[DVec3], target: &TriangleGrid, initial: Similarity
     };
     for iteration in 1..=MAX_ITERATIONS {
         let moved: Vec<DVec3> = mask.iter().map(|p| current.apply(*p)).collect();
+        let reach = SEARCH_RADIUS * radius * current.scale;
         let pairs: Vec<Pair> = moved
             .iter()
-            .map(|x| {
+            .zip(normals)
+            .map(|(x, normal)| {
                 target
-                    .closest(*x)
+                    .closest_facing(*x, current.rotation * *normal, MIN_NORMAL_DOT, reach)
                     .map_or((*x, DVec3::ZERO, f64::INFINITY), |c| {
                         (c.point, target.triangle_normal(c.triangle), c.distance)
                     })
             })
             .collect();
         let floor = KEEP_WITHIN * radius * current.scale;
-        let weights = trimmed_weights(&pairs.iter().map(|p| p.2).collect::<Vec<_>>(), floor);
+        let distances: Vec<f64> = pairs.iter().map(|p| p.2).collect();
+        let weights = trimmed_weights(&distances, floor);
         let kept: f64 = weights.iter().sum();
         let rms = (pairs
             .iter()
             .zip(&weights)
+            .filter(|(_, w)| **w > 0.0)
             .map(|(p, w)| w * p.2 * p.2)
             .sum::<f64>()
             / kept.max(1.0))
@@ -124,7 +151,9 @@ pub fn icp_with_scale(mask: &[DVec3], target: &TriangleGrid, initial: Similarity
             .sqrt();
         current = next;
         result.similarity = current;
-        if motion <= TOLERANCE * radius * current.scale {
+        // Point-to-point steps are short while the mask slides along the
+        // surface: only a point-to-plane step's smallness means converged.
+        if iteration > POINT_TO_POINT_ITERATIONS && motion <= TOLERANCE * radius * current.scale {
             break;
         }
     }

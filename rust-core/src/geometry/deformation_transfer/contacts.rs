@@ -51,8 +51,8 @@
 //! have that many vertices (contacts made for another vertex count are
 //! refused); contact rows are below the number of contacts.
 
-use super::translation::components;
 use super::{CONTACT_FRACTION, DeformationTransfer, TransferError, check_positions, factor_error};
+use crate::geometry::connected_components::components;
 use crate::geometry::topology::GeometryError;
 use faer::linalg::solvers::Solve;
 use faer::{Mat, Side};

@@ -130,8 +130,8 @@ use glam::{DMat3, DVec3};
 mod contacts;
 mod translation;
 
+use crate::geometry::connected_components::components;
 pub use contacts::Contacts;
-use translation::components;
 
 /// Fraction of a shape's largest source displacement below which a vertex
 /// counts as still when the translation is fixed (see the module docs).

@@ -15,46 +15,10 @@
 //!
 //! Indexing: as in the parent module, vertex indices are below the vertex
 //! count `n` (checked triangles; `motion` and `delta` have `n` entries) and
-//! component ids below the component count; the union–find forest holds
-//! vertex indices only.
+//! component ids below the component count.
 
-use super::{DeformationTransfer, PINNED, STILL_FRACTION};
+use super::{DeformationTransfer, STILL_FRACTION};
 use glam::DVec3;
-
-/// Root of `v` in a union–find forest, with path halving.
-fn root(parent: &mut [usize], mut v: usize) -> usize {
-    while parent[v] != v {
-        parent[v] = parent[parent[v]];
-        v = parent[v];
-    }
-    v
-}
-
-/// Connected components of the triangles over `n` vertices: each vertex's
-/// component, numbered in order of their smallest vertex, and the count.
-pub(super) fn components(n: usize, triangles: &[[u32; 3]]) -> (Vec<u32>, usize) {
-    let mut parent: Vec<usize> = (0..n).collect();
-    for t in triangles {
-        for k in 1..3 {
-            let (a, b) = (
-                root(&mut parent, t[0] as usize),
-                root(&mut parent, t[k] as usize),
-            );
-            parent[a.max(b)] = a.min(b);
-        }
-    }
-    let mut id = vec![PINNED; n];
-    let mut count = 0;
-    for v in 0..n {
-        let r = root(&mut parent, v);
-        if id[r] == PINNED {
-            id[r] = count;
-            count += 1;
-        }
-        id[v] = id[r];
-    }
-    (id, count as usize)
-}
 
 impl DeformationTransfer {
     /// Adds to each component the constant `c` with

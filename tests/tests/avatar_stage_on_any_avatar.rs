@@ -1,0 +1,106 @@
+//! The avatar stage on avatars the default avatar's mask did not make
+//! (issue 21): every generated variant (`likeness_sim::avatar_variants`:
+//! a low-poly head, eyes turned by bones, teeth and gums in one mesh, the
+//! face in one mesh, a skinned full body, centimetres and Z up, other
+//! proportions) and, where `../shared/avatars/ict-facekit.glb` is present,
+//! a real avatar nobody here made. Committed subject 1 is implanted into
+//! each, and what a user would see wrong is measured against the avatar's
+//! own shapes (`likeness_tests::avatar_quality`).
+
+use likeness::avatar::glb::read::{GlbAvatar, read_avatar, read_avatar_bytes};
+use likeness::avatar::personal_avatar::{AvatarWarning, PersonalAvatar};
+use likeness_sim::avatar_variants::avatar_variants;
+use likeness_tests::avatar_quality::{Figures, figures, summary};
+use std::path::Path;
+
+/// Committed subject 1 implanted into `glb`, and its figures.
+fn implant_subject(glb: &GlbAvatar) -> (PersonalAvatar, Figures) {
+    let made = likeness_tests::committed::personal_avatar_of(1, glb)
+        .unwrap_or_else(|e| panic!("{}: {e}", glb.file.display()));
+    let implanted = made.implanted.as_ref().expect("personalized");
+    let f = figures(&glb.avatar, &made.registration, implanted);
+    eprintln!(
+        "{}: {}",
+        glb.file.display(),
+        summary(&made.registration, &f)
+    );
+    (made, f)
+}
+
+/// What holds on every avatar: the face found over most of the mask, two
+/// eyeballs and the teeth (where it `has_teeth`) found whatever the rig,
+/// and no shape tearing more than half a per cent of the head's edges.
+fn assert_found_and_whole(name: &str, made: &PersonalAvatar, f: &Figures, has_teeth: bool) {
+    let found = &made.registration;
+    assert!(found.coverage >= 0.9, "{name}: coverage {}", found.coverage);
+    assert!(
+        found.residual_mean_mm <= 0.5,
+        "{name}: residual {}",
+        found.residual_mean_mm
+    );
+    assert_eq!(found.eyeballs.len(), 2, "{name}: eyeballs");
+    assert!(
+        !made.warnings.contains(&AvatarWarning::NoEyeballs),
+        "{name}: {:?}",
+        made.warnings
+    );
+    assert_eq!(
+        made.warnings.contains(&AvatarWarning::NoTeeth),
+        !has_teeth,
+        "{name}: {:?}",
+        made.warnings
+    );
+    assert!(
+        f.most_torn.0 as f64 <= 0.005 * f.head_edges as f64,
+        "{name}: {} tears {} of {} edges",
+        f.most_torn.1,
+        f.most_torn.0,
+        f.head_edges
+    );
+}
+
+#[test]
+fn every_generated_avatar_gets_the_persons_face_without_tears_open_blinks_or_lids_in_eyes() {
+    for variant in avatar_variants() {
+        let glb = read_avatar_bytes(&variant.glb, variant.name).expect("reads");
+        let (made, f) = implant_subject(&glb);
+        let has_teeth = variant.truth.teeth_part.is_some();
+        assert_found_and_whole(variant.name, &made, &f, has_teeth);
+        assert_eq!(f.blinks.len(), 2, "{}", variant.name);
+        for (b, own, got) in &f.blinks {
+            assert!(
+                *got <= own + 0.02,
+                "{}: {b} leaves {:.1}% of the eyeball seen, its own {:.1}%",
+                variant.name,
+                100.0 * got,
+                100.0 * own
+            );
+        }
+        assert!(
+            f.deepest_lid_mm.0 <= 0.2,
+            "{}: a lid {:.2} mm inside an eyeball in {}",
+            variant.name,
+            f.deepest_lid_mm.0,
+            f.deepest_lid_mm.1
+        );
+    }
+}
+
+/// On ICT-FaceKit (measured only, never committed): the face is found,
+/// the eyes and teeth too, and nothing tears. Its blink is printed, not
+/// asserted: on ICT's closed eye sockets the personalized blink does not
+/// close yet (issue 21 stays open on it).
+#[test]
+fn a_real_avatar_nobody_here_made_gets_the_persons_face_without_tears() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/avatars/ict-facekit.glb");
+    if !path.exists() {
+        eprintln!(
+            "skipped: {} is absent (it is never committed)",
+            path.display()
+        );
+        return;
+    }
+    let glb = read_avatar(&path).expect("reads");
+    let (made, f) = implant_subject(&glb);
+    assert_found_and_whole("ict-facekit", &made, &f, true);
+}

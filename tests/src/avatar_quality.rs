@@ -294,3 +294,65 @@ pub fn summary(found: &FaceRegistration, f: &Figures) -> String {
         found.eyeballs.len(),
     )
 }
+
+/// The round trip of issue 21: the avatar's own shapes, seen through the
+/// registration, given to the pipeline as the person, compared with the
+/// avatar's own targets.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RoundTrip {
+    /// The largest, over the shapes, RMSE over the face region, as a share
+    /// of that shape's largest own motion; and its shape.
+    pub face_rmse_share: (f64, Blendshape),
+    /// The largest, over the shapes and every vertex, distance from the
+    /// own target, as a share of that shape's largest own motion; and its
+    /// shape.
+    pub vertex_share: (f64, Blendshape),
+    /// That vertex.
+    pub worst_vertex: u32,
+    /// Per blink with an eyeball on its side: the eyeball's front seen
+    /// under the own blink and under the round trip's.
+    pub blinks: Vec<(Blendshape, f64, f64)>,
+}
+
+/// Measures a round trip's `implanted` shapes against `avatar`'s own
+/// (shapes the avatar lacks are skipped: nothing to give back).
+pub fn round_trip(avatar: &Avatar, found: &FaceRegistration, implanted: &Implanted) -> RoundTrip {
+    let mut face_rmse = (0.0f64, Blendshape::JawOpen);
+    let mut vertex = (0.0f64, Blendshape::JawOpen);
+    let mut worst_vertex = 0;
+    for b in Blendshape::ALL {
+        let Some(own) = arkit_displacement(avatar, b) else {
+            continue;
+        };
+        let got = &implanted.shapes[b.index()];
+        let largest = own.iter().map(|d| d.length()).fold(0.0, f64::max);
+        if largest == 0.0 {
+            continue;
+        }
+        let error = |v: usize| (got[v].as_dvec3() - own[v]).length();
+        let sum: f64 = found
+            .map
+            .face
+            .iter()
+            .map(|f| error(f.vertex as usize).powi(2))
+            .sum();
+        let rmse = (sum / found.map.face.len().max(1) as f64).sqrt() / largest;
+        if rmse > face_rmse.0 {
+            face_rmse = (rmse, b);
+        }
+        for v in 0..own.len() {
+            let share = error(v) / largest;
+            if share > vertex.0 {
+                vertex = (share, b);
+                worst_vertex = v as u32;
+            }
+        }
+    }
+    let f = figures(avatar, found, implanted);
+    RoundTrip {
+        face_rmse_share: face_rmse,
+        vertex_share: vertex,
+        worst_vertex,
+        blinks: f.blinks,
+    }
+}

@@ -40,3 +40,30 @@ pub fn personal_avatar_of(seed: u64, glb: &GlbAvatar) -> Result<PersonalAvatar, 
     };
     personal_avatar(glb, &input, None, AvatarShapes::Personalized, &mut |_| true)
 }
+
+/// The round trip of issue 21 on `glb`: the avatar's own shapes, seen
+/// through the face found on it for the committed subject 1's mask, given
+/// as the person.
+pub fn round_trip_of(glb: &GlbAvatar) -> Result<PersonalAvatar, AvatarError> {
+    let session = read(1).expect("a committed session reads");
+    let rig = session.template.blendshapes().expect("a checked template");
+    let found = likeness::avatar::registration::find_face(&glb.avatar, &session.topology, &rig)
+        .map_err(|source| AvatarError::Registration {
+            file: glb.file.display().to_string(),
+            source,
+        })?;
+    let person = likeness::avatar::own_shapes::avatar_as_person(&glb.avatar, &found)
+        .expect("finite own shapes");
+    let input = PersonInput {
+        mask: &session.topology,
+        rig: &rig,
+        personalized: &person,
+    };
+    personal_avatar(
+        glb,
+        &input,
+        Some(found),
+        AvatarShapes::Personalized,
+        &mut |_| true,
+    )
+}

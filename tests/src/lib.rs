@@ -7,3 +7,4 @@
 pub mod avatar_quality;
 pub mod committed;
 pub mod live_link;
+pub mod shared_avatars;

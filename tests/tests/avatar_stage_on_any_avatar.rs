@@ -7,11 +7,10 @@
 //! each, and what a user would see wrong is measured against the avatar's
 //! own shapes (`likeness_tests::avatar_quality`).
 
-use likeness::avatar::glb::read::{GlbAvatar, read_avatar, read_avatar_bytes};
+use likeness::avatar::glb::read::{GlbAvatar, read_avatar_bytes};
 use likeness::avatar::personal_avatar::{AvatarWarning, PersonalAvatar};
 use likeness_sim::avatar_variants::avatar_variants;
 use likeness_tests::avatar_quality::{Figures, figures, summary};
-use std::path::Path;
 
 /// Committed subject 1 implanted into `glb`, and its figures.
 fn implant_subject(glb: &GlbAvatar) -> (PersonalAvatar, Figures) {
@@ -31,6 +30,19 @@ fn implant_subject(glb: &GlbAvatar) -> (PersonalAvatar, Figures) {
 /// eyeballs and the teeth (where it `has_teeth`) found whatever the rig,
 /// and no shape tearing more than half a per cent of the head's edges.
 fn assert_found_and_whole(name: &str, made: &PersonalAvatar, f: &Figures, has_teeth: bool) {
+    assert_found(name, made, has_teeth);
+    assert!(
+        f.most_torn.0 as f64 <= 0.005 * f.head_edges as f64,
+        "{name}: {} tears {} of {} edges",
+        f.most_torn.1,
+        f.most_torn.0,
+        f.head_edges
+    );
+}
+
+/// The face found over most of the mask, two eyeballs and the teeth (where
+/// it `has_teeth`) found whatever the rig.
+fn assert_found(name: &str, made: &PersonalAvatar, has_teeth: bool) {
     let found = &made.registration;
     assert!(found.coverage >= 0.9, "{name}: coverage {}", found.coverage);
     assert!(
@@ -49,13 +61,6 @@ fn assert_found_and_whole(name: &str, made: &PersonalAvatar, f: &Figures, has_te
         !has_teeth,
         "{name}: {:?}",
         made.warnings
-    );
-    assert!(
-        f.most_torn.0 as f64 <= 0.005 * f.head_edges as f64,
-        "{name}: {} tears {} of {} edges",
-        f.most_torn.1,
-        f.most_torn.0,
-        f.head_edges
     );
 }
 
@@ -87,20 +92,15 @@ fn every_generated_avatar_gets_the_persons_face_without_tears_open_blinks_or_lid
 }
 
 /// On ICT-FaceKit (measured only, never committed): the face is found,
-/// the eyes and teeth too, and nothing tears. Its blink is printed, not
-/// asserted: on ICT's closed eye sockets the personalized blink does not
-/// close yet (issue 21 stays open on it).
+/// the eyes and teeth too, and no shape tears over 0.5% of the head's
+/// edges. Its blink is printed, not asserted: the personalized blink does
+/// not close yet (issue 21 stays open on it; ICP with a free scale finds
+/// ICT's face at about two thirds of its size).
 #[test]
 fn a_real_avatar_nobody_here_made_gets_the_persons_face_without_tears() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/avatars/ict-facekit.glb");
-    if !path.exists() {
-        eprintln!(
-            "skipped: {} is absent (it is never committed)",
-            path.display()
-        );
+    let Some(glb) = likeness_tests::shared_avatars::ict_facekit() else {
         return;
-    }
-    let glb = read_avatar(&path).expect("reads");
+    };
     let (made, f) = implant_subject(&glb);
     assert_found_and_whole("ict-facekit", &made, &f, true);
 }

@@ -332,7 +332,7 @@ fn no_lid_ends_inside_an_eyeball() {
     // Counting what a repair with no offset would move counts the vertices inside.
     let inside = |d: &[Vec3]| {
         let mut d: Vec<glam::DVec3> = d.iter().map(|x| x.as_dvec3()).collect();
-        repair_eyelids(&rest, &mut d, &skin, &eyeballs, 0.0, 0.01)
+        repair_eyelids(&rest, &[], &mut d, &skin, &eyeballs, 0.0, 0.01)
     };
     eprintln!(
         "lid vertices repaired over the 52 shapes: {}",

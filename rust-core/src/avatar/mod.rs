@@ -7,6 +7,7 @@
 //! | §3.3 "the avatar's blendshapes" | target names to ARKit's 52, split halves | [`target_names`] |
 //! | (glTF 2.0, not in the paper) | glTF / GLB read, written back with new targets, written new | [`glb`] |
 //! | §3.3 "non-rigid registration \[1\]", "ICP with scaling \[52\]" | finding the face, the map `M` | [`registration`] |
+//! | beyond §3.3 | the avatar's own shapes seen through the registration, `S_j` (the round trip) | [`own_shapes`] |
 //! | §3.3, Eq. (4) | automatic retargeting `A_j`, the 52 × k weight map | [`retargeting`] |
 //! | §3.3, Fig. 3 | seamless partial deformation transfer: the person's shapes implanted | [`partial_transfer`] |
 //! | §3.3 end to end | the person's avatar as GLB bytes, steps skipped said, progress and cancel | [`personal_avatar`] |
@@ -19,6 +20,7 @@ pub mod avatar_summary;
 pub mod glb;
 pub mod likeness_check;
 pub mod model;
+pub mod own_shapes;
 pub mod partial_transfer;
 pub mod personal_avatar;
 pub mod registration;

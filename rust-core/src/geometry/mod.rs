@@ -12,12 +12,14 @@
 //! | §3.3, ICP and the map `M` | exact closest points on a triangle mesh, binned in a grid (Ericson 2005) | [`closest_point`] |
 //! | §3.3, teeth and eyeballs inside one mesh | connected components (union–find) | [`connected_components`] |
 //! | §3.3, the skin the mask may lie on | triangles seen from the front (orthographic depth buffer) | [`front_visibility`] |
+//! | §3.3, the blend margin; motion faded out where nothing moves | shortest edge paths from a set of vertices (Dijkstra) | [`edge_distance`] |
 //! | §3.3, eyeballs found by their shape | algebraic least-squares sphere (Kåsa 1976) | [`sphere_fit`] |
 
 pub mod closest_point;
 pub mod connected_components;
 pub mod deformation_gradient;
 pub mod deformation_transfer;
+pub mod edge_distance;
 pub mod front_visibility;
 pub mod mesh_boundary;
 pub mod sphere_fit;

@@ -23,6 +23,7 @@
 //! a small part of `C`.
 
 use super::lid_contacts::{LidContact, least_energy_closing};
+use crate::geometry::edge_distance::edge_distances;
 use faer::linalg::solvers::Solve;
 use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
 use faer::sparse::{SparseColMat, Triplet};
@@ -203,59 +204,10 @@ impl AdjacentStep {
 }
 
 /// The vertices within `reach` of a `face` vertex along the edges of
-/// `triangles` (shortest paths, Dijkstra, edge lengths from `positions`),
-/// the face's own included.
+/// `triangles` (shortest paths, edge lengths from `positions`), the face's
+/// own included.
 pub fn within(positions: &[DVec3], triangles: &[[u32; 3]], face: &[bool], reach: f64) -> Vec<bool> {
-    use std::cmp::Reverse;
-    use std::collections::BinaryHeap;
-    let n = positions.len().min(face.len());
-    let mut neighbours: Vec<Vec<u32>> = vec![Vec::new(); n];
-    for t in triangles {
-        if t.iter().any(|&v| v as usize >= n) {
-            continue;
-        }
-        for k in 0..3 {
-            let (a, b) = (t[k], t[(k + 1) % 3]);
-            neighbours[a as usize].push(b);
-            neighbours[b as usize].push(a);
-        }
-    }
-    // Distances as integer nanometre-scale keys would lose nothing here,
-    // but ordered floats keep it plain: `total_cmp` through a wrapper.
-    #[derive(PartialEq)]
-    struct Key(f64);
-    impl Eq for Key {}
-    impl PartialOrd for Key {
-        fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
-            Some(self.cmp(other))
-        }
-    }
-    impl Ord for Key {
-        fn cmp(&self, other: &Self) -> std::cmp::Ordering {
-            self.0.total_cmp(&other.0)
-        }
-    }
-    let mut distance = vec![f64::INFINITY; n];
-    let mut queue = BinaryHeap::new();
-    for v in 0..n {
-        if face[v] {
-            distance[v] = 0.0;
-            queue.push(Reverse((Key(0.0), v)));
-        }
-    }
-    while let Some(Reverse((Key(d), v))) = queue.pop() {
-        if d > distance[v] || d > reach {
-            continue;
-        }
-        for &u in &neighbours[v] {
-            let u = u as usize;
-            let next = d + positions[v].distance(positions[u]);
-            if next < distance[u] && next <= reach {
-                distance[u] = next;
-                queue.push(Reverse((Key(next), u)));
-            }
-        }
-    }
+    let distance = edge_distances(positions, triangles, face, reach);
     let mut out: Vec<bool> = distance.iter().map(|d| *d <= reach).collect();
     out.resize(face.len(), false);
     out

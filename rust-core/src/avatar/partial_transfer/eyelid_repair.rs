@@ -12,8 +12,10 @@
 //! skin vertices within the eyeball's radius plus [`NEAR_MM`] of its centre
 //! at rest, and within its bounding sphere in the shape, are looked at (an
 //! eyeball turns about its centre, so the sphere holds it in every shape),
-//! and only those outside it at rest: a vertex the avatar keeps inside an
-//! eyeball's shell at rest (a lid margin under a cornea shell) is the
+//! and only those outside it at rest and under the avatar's own shape of
+//! the same name: a vertex the avatar keeps inside an eyeball's shell at
+//! rest (a lid margin under a cornea shell), or that its own shape moves
+//! inside (a lid an eyeLook target leaves behind a turned eyeball), is the
 //! rig's own.
 
 use crate::geometry::closest_point::TriangleGrid;
@@ -65,10 +67,13 @@ impl Eyeball {
 }
 
 /// Repairs one shape's `displacement` (all avatar vertices, `rest` their
-/// positions): every vertex of `skin` that ends inside an eyeball is moved
-/// onto it, `offset` (avatar units) outside. Returns how many were moved.
+/// positions; `own` the avatar's own shape of that name, empty if it has
+/// none): every vertex of `skin` that ends inside an eyeball, where the
+/// avatar keeps it outside at rest and under `own`, is moved onto it,
+/// `offset` (avatar units) outside. Returns how many were moved.
 pub fn repair_eyelids(
     rest: &[DVec3],
+    own: &[DVec3],
     displacement: &mut [DVec3],
     skin: &[u32],
     eyeballs: &[Eyeball],
@@ -81,9 +86,15 @@ pub fn repair_eyelids(
         .zip(displacement.iter())
         .map(|(p, d)| *p + *d)
         .collect();
+    let own_posed: Vec<DVec3> = rest
+        .iter()
+        .enumerate()
+        .map(|(v, p)| *p + own.get(v).copied().unwrap_or(DVec3::ZERO))
+        .collect();
     for eyeball in eyeballs {
         let grid = TriangleGrid::new(&posed, &eyeball.triangles);
         let at_rest = TriangleGrid::new(rest, &eyeball.triangles);
+        let under_own = TriangleGrid::new(&own_posed, &eyeball.triangles);
         for &v in skin {
             let v = v as usize;
             let (Some(p0), Some(p)) = (rest.get(v), posed.get(v)) else {
@@ -99,7 +110,7 @@ pub fn repair_eyelids(
             // A vertex the avatar itself keeps inside at rest (a lid
             // margin tucked under a rig's cornea shell) is the rig's
             // choice, not a lid passing through.
-            if inside(&at_rest, *p0).is_some() {
+            if inside(&at_rest, *p0).is_some() || inside(&under_own, own_posed[v]).is_some() {
                 continue;
             }
             if let Some((point, normal)) = inside(&grid, *p) {
@@ -153,10 +164,19 @@ mod tests {
         let eyeball = Eyeball::new(&rest, triangles);
         let mut d = vec![DVec3::ZERO; rest.len()];
         d[8] = DVec3::new(0.0, 0.0, -0.4);
-        let moved = repair_eyelids(&rest, &mut d, &[8, 9], &[eyeball], 0.01, 1.0);
+        let moved = repair_eyelids(&rest, &[], &mut d, &[8, 9], &[eyeball.clone()], 0.01, 1.0);
         assert_eq!(moved, 1);
         let at = rest[8] + d[8];
         assert!((at - DVec3::new(0.1, 0.1, 0.51)).length() < 1e-12, "{at}");
         assert_eq!(d[9], DVec3::ZERO);
+        // Where the avatar's own shape moves the vertex inside too, it is
+        // the rig's choice and left alone.
+        let mut own = vec![DVec3::ZERO; rest.len()];
+        own[8] = DVec3::new(0.0, 0.0, -0.3);
+        let mut d = vec![DVec3::ZERO; rest.len()];
+        d[8] = DVec3::new(0.0, 0.0, -0.4);
+        let moved = repair_eyelids(&rest, &own, &mut d, &[8, 9], &[eyeball], 0.01, 1.0);
+        assert_eq!(moved, 0);
+        assert_eq!(d[8], DVec3::new(0.0, 0.0, -0.4));
     }
 }

@@ -12,6 +12,7 @@
 //! | §3.3 "deformation transfer to only the avatar's face using the precomputed correspondence mapping" | step 1 | [`face_step`] |
 //! | §3.3 "the vertices in the adjacent area … are non-rigidly deformed from `A_j`" | step 2 | [`adjacent_step`] |
 //! | (beyond the paper) closed eyes stay closed: the lid margins `M` leaves out made to meet | [`lid_contacts`], [`adjacent_step::AdjacentStep::close`] |
+//! | (beyond the paper) what neither the person nor the avatar's rig moves stays put | [`stay_put`] |
 //! | §3.3 "eye balls and teeth … to their desired position" | rigid pieces (connected components any own target moves rigidly, in any mesh) kept rigid | [`rigid_parts`] |
 //! | §3.3 "moving the eyelid vertices to their closest point on the eyeball surface \[2\]" | no lid inside an eyeball (eyeballs found by their shape, [`crate::avatar::registration::eyeballs`]) | [`eyelid_repair`] |
 
@@ -20,9 +21,12 @@ pub mod eyelid_repair;
 pub mod face_step;
 pub mod lid_contacts;
 pub mod rigid_parts;
+pub mod stay_put;
 
 use super::model::Avatar;
+use super::own_shapes::face_part_triangles;
 use super::registration::FaceRegistration;
+use super::registration::find_face::arkit_displacement;
 use super::retargeting::{NEGLIGIBLE, RetargetError, Retargeting, mapped_shapes};
 use crate::arkit::{Blendshape, Blendshapes};
 use adjacent_step::AdjacentStep;
@@ -31,6 +35,7 @@ use face_step::{FaceStep, FaceStepError};
 use glam::{DVec3, Vec3};
 use lid_contacts::ClosingEyes;
 use rigid_parts::make_rigid;
+use stay_put::{FADE_MM, STILL_MM, fade_still};
 
 /// Skin within this distance of the face region (mm at the mask's scale,
 /// along the surface) joins the adjacent region even where no `A_j` moves
@@ -63,6 +68,9 @@ pub struct Implanted {
     pub face_vertices: usize,
     /// Avatar vertices set by step 2 (next to the face).
     pub adjacent_vertices: usize,
+    /// Vertex displacements faded out because nothing moves there, over
+    /// all 52 shapes ([`stay_put`]).
+    pub still_faded: usize,
     /// Lid vertices moved out of an eyeball, over all 52 shapes.
     pub lids_repaired: usize,
     /// Eyes closed on the avatar because the person's closed (shape, eye
@@ -91,12 +99,7 @@ pub fn implant(
 ) -> Result<Implanted, ImplantError> {
     let positions: Vec<DVec3> = avatar.positions().iter().map(|p| p.as_dvec3()).collect();
     let offsets = avatar.vertex_offsets();
-    let face_part_triangles: Vec<[u32; 3]> = registration
-        .face_parts
-        .iter()
-        .filter_map(|&i| Some((avatar.parts.get(i)?, offsets[i] as u32)))
-        .flat_map(|(part, o)| part.triangles.iter().map(move |t| t.map(|v| v + o)))
-        .collect();
+    let face_part_triangles = face_part_triangles(avatar, registration);
     let retargeted: Vec<Vec<DVec3>> = retargeting
         .displacements(avatar)
         .into_iter()
@@ -110,7 +113,7 @@ pub fn implant(
         .iter()
         .map(|b| personalized.delta(*b))
         .collect();
-    let on_face = face.transfer(
+    let mut on_face = face.transfer(
         personalized.neutral(),
         &deltas,
         mask_triangles,
@@ -125,7 +128,6 @@ pub fn implant(
         personalized,
         mask_triangles,
     );
-    let mut on_face = on_face;
     // Beyond the patch, `A_j` stands in for what step 2 will make.
     let patch_at = |j: usize, d: &Vec<DVec3>, v: u32| {
         let moved = match face.index(v) {
@@ -189,6 +191,35 @@ pub fn implant(
     if !closing.close_all(&mut full, full_at, full_close) {
         return Err(ImplantError::Adjacent);
     }
+    // What neither the person, the avatar's own target nor `A_j` moves
+    // stays put.
+    let to_avatar = registration.similarity.scale / 1000.0;
+    let person_moves = mapped;
+    let still = STILL_MM * to_avatar;
+    let mut faded = 0;
+    for (j, (d, b)) in full.iter_mut().zip(Blendshape::ALL).enumerate() {
+        let mut moving = vec![false; n];
+        for (f, m) in registration.map.face.iter().zip(&person_moves[j]) {
+            if m.length() > still {
+                moving[f.vertex as usize] = true;
+            }
+        }
+        if let Some(own) = arkit_displacement(avatar, b) {
+            for (x, o) in moving.iter_mut().zip(&own) {
+                *x |= *o != DVec3::ZERO;
+            }
+        }
+        for (x, a) in moving.iter_mut().zip(&retargeted[j]) {
+            *x |= a.length() > still;
+        }
+        faded += fade_still(
+            &positions,
+            &face_part_triangles,
+            d,
+            &moving,
+            FADE_MM * to_avatar,
+        );
+    }
     // Rigid pieces: each connected component outside the face parts that
     // every own target moves rigidly (an eyeball; each tooth, or a
     // teeth-and-gums arch, in a mesh that holds both jaws), held rigid.
@@ -222,12 +253,14 @@ pub fn implant(
     let skin: Vec<u32> = (0..n as u32)
         .filter(|&v| in_face_parts[v as usize])
         .collect();
-    let to_avatar = registration.similarity.scale / 1000.0;
     let lids_repaired = full
         .iter_mut()
-        .map(|d| {
+        .zip(Blendshape::ALL)
+        .map(|(d, b)| {
+            let own = arkit_displacement(avatar, b).unwrap_or_default();
             repair_eyelids(
                 &positions,
+                &own,
                 d,
                 &skin,
                 &eyeballs,
@@ -260,6 +293,7 @@ pub fn implant(
             .collect(),
         face_vertices: face.vertices().len(),
         adjacent_vertices: adjacent.region().len(),
+        still_faded: faded,
         lids_repaired,
         lids_closed: closing.count(),
         rigid_parts: rigid_parts::wholly_rigid_parts(avatar, &pieces),

@@ -164,7 +164,15 @@ mod tests {
         let eyeball = Eyeball::new(&rest, triangles);
         let mut d = vec![DVec3::ZERO; rest.len()];
         d[8] = DVec3::new(0.0, 0.0, -0.4);
-        let moved = repair_eyelids(&rest, &[], &mut d, &[8, 9], &[eyeball.clone()], 0.01, 1.0);
+        let moved = repair_eyelids(
+            &rest,
+            &[],
+            &mut d,
+            &[8, 9],
+            std::slice::from_ref(&eyeball),
+            0.01,
+            1.0,
+        );
         assert_eq!(moved, 1);
         let at = rest[8] + d[8];
         assert!((at - DVec3::new(0.1, 0.1, 0.51)).length() < 1e-12, "{at}");

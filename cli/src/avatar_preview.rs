@@ -1,6 +1,6 @@
 //! `likeness avatar … --preview DIR`: a contact sheet for a person to look
 //! at what the avatar step did, shape by shape. For the neutral pose and
-//! each of [`tiles::SHAPES`] at weight one, the avatar's own shape and the
+//! each of [`tiles::POSES`] (shapes at weight one), the avatar's own shape and the
 //! written one (the person's implanted shapes, or `A_j` with
 //! `--retargeted`), each seen three ways: the face from the front, both
 //! eyes close, the mouth close.
@@ -134,12 +134,22 @@ pub fn write_preview(
     };
     let rows = Row::all();
     // poses[row][set]: Some(None) is the rest pose.
+    // A pose of several shapes is their displacements summed; missing if
+    // the set lacks any of them.
+    let summed = |row: Row, of: &dyn Fn(Blendshape) -> Option<Vec<DVec3>>| -> Pose {
+        let fields = row
+            .shapes()
+            .into_iter()
+            .map(of)
+            .collect::<Option<Vec<_>>>()?;
+        Some(fields.into_iter().reduce(|mut sum, d| {
+            sum.iter_mut().zip(d).for_each(|(s, d)| *s += d);
+            sum
+        }))
+    };
     let poses: Vec<[Pose; 2]> = rows
         .iter()
-        .map(|row| match row {
-            Row::Neutral => [Some(None), Some(None)],
-            Row::Shape(s) => [own(*s).map(Some), written(*s).map(Some)],
-        })
+        .map(|row| [summed(*row, &own), summed(*row, &written)])
         .collect();
 
     let mut skin = vec![true; scene.rest.len()];
@@ -179,10 +189,7 @@ pub fn write_preview(
     let sheet = contact_sheet(&layout, &set_name, &|r, column| {
         tile(r, column.set, column.view).0.clone()
     });
-    let has_own = |row: Row| match row {
-        Row::Neutral => true,
-        Row::Shape(s) => !input.found.of(s).is_empty(),
-    };
+    let has_own = |row: Row| row.shapes().iter().all(|s| !input.found.of(*s).is_empty());
     let about = About {
         avatar: input.avatar_name,
         written: input.written_name,

@@ -76,13 +76,13 @@ const SIZES: [(&str, (u32, u32)); 3] = [
 const ROWS: [&str; 11] = [
     "neutral",
     "jawOpen",
+    "jawOpen+mouthClose",
     "eyeBlinkLeft",
     "eyeBlinkRight",
     "mouthSmileLeft",
     "mouthFunnel",
     "browInnerUp",
     "eyeSquintLeft",
-    "mouthClose",
     "cheekPuff",
     "eyeLookUpLeft",
 ];
@@ -149,6 +149,16 @@ fn the_preview_shows_every_shape_own_and_personalized() {
         let neutral_mouth = tile("neutral", set, "mouth");
         let open = share_changed(&neutral_mouth, &tile("jawOpen", set, "mouth"));
         assert!(open > 0.1, "{set}: jawOpen changes {open:.3} of the mouth");
+        // mouthClose on the open jaw closes the lips some: the pair is
+        // not the jaw alone.
+        let closing = share_changed(
+            &tile("jawOpen", set, "mouth"),
+            &tile("jawOpen+mouthClose", set, "mouth"),
+        );
+        assert!(
+            closing > 0.01,
+            "{set}: mouthClose changes {closing:.3} of the open mouth"
+        );
         let neutral_eyes = tile("neutral", set, "eyes");
         for blink in ["eyeBlinkLeft", "eyeBlinkRight"] {
             let closed = share_changed(&neutral_eyes, &tile(blink, set, "eyes"));

@@ -14,7 +14,7 @@ pub const TEXT_SCALE: u32 = 2;
 pub const INK: [u8; 3] = [20, 20, 20];
 
 /// The width of the rows' labels (the longest pose name fits).
-pub const LABEL_WIDTH: u32 = 180;
+pub const LABEL_WIDTH: u32 = 220;
 
 /// The height of one line of text with room above and below.
 pub const LINE: u32 = GLYPH.1 * TEXT_SCALE + 8;
@@ -121,9 +121,9 @@ pub fn contact_sheet(
         draw_text(&mut sheet, name, left, text_top(1), TEXT_SCALE, INK);
     }
     for (row, (pose, top)) in layout.rows.iter().enumerate() {
-        let (_, h) = text_size(pose.name(), TEXT_SCALE);
+        let (_, h) = text_size(&pose.name(), TEXT_SCALE);
         let y = top + (layout.row_height - h) / 2;
-        draw_text(&mut sheet, pose.name(), GAP, y, TEXT_SCALE, INK);
+        draw_text(&mut sheet, &pose.name(), GAP, y, TEXT_SCALE, INK);
         for column in &layout.columns {
             let (x, y) = layout.corner(row, column);
             sheet.place(&tile(row, column), x, y);
@@ -154,7 +154,7 @@ mod tests {
     fn the_labels_fit_their_room() {
         for row in Row::all() {
             assert!(
-                text_size(row.name(), TEXT_SCALE).0 <= LABEL_WIDTH,
+                text_size(&row.name(), TEXT_SCALE).0 <= LABEL_WIDTH,
                 "{row:?}"
             );
         }

@@ -11,43 +11,56 @@ use crate::report::rasterizer::{BACKGROUND, FrontView, Mesh, render};
 use glam::DVec3;
 use likeness::Blendshape;
 
-/// The shapes of the preview, one row each after the neutral row.
-pub const SHAPES: [Blendshape; 10] = [
-    Blendshape::JawOpen,
-    Blendshape::EyeBlinkLeft,
-    Blendshape::EyeBlinkRight,
-    Blendshape::MouthSmileLeft,
-    Blendshape::MouthFunnel,
-    Blendshape::BrowInnerUp,
-    Blendshape::EyeSquintLeft,
-    Blendshape::MouthClose,
-    Blendshape::CheekPuff,
-    Blendshape::EyeLookUpLeft,
+/// The poses of the preview, one row each after the neutral row. ARKit's
+/// `mouthClose` is made to be used on top of `jawOpen` (it closes the
+/// lips while the jaw stays open; alone, most rigs push the lips through
+/// each other), so it is shown that way.
+pub const POSES: [Row; 10] = [
+    Row::Shape(Blendshape::JawOpen),
+    Row::Together(Blendshape::JawOpen, Blendshape::MouthClose),
+    Row::Shape(Blendshape::EyeBlinkLeft),
+    Row::Shape(Blendshape::EyeBlinkRight),
+    Row::Shape(Blendshape::MouthSmileLeft),
+    Row::Shape(Blendshape::MouthFunnel),
+    Row::Shape(Blendshape::BrowInnerUp),
+    Row::Shape(Blendshape::EyeSquintLeft),
+    Row::Shape(Blendshape::CheekPuff),
+    Row::Shape(Blendshape::EyeLookUpLeft),
 ];
 
-/// One row of the contact sheet: the avatar at rest, or one shape at
-/// weight one.
+/// One row of the contact sheet: the avatar at rest, one shape at weight
+/// one, or two shapes at weight one together.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Row {
     /// Every weight zero.
     Neutral,
     /// This shape at weight one, every other at zero.
     Shape(Blendshape),
+    /// Both shapes at weight one, every other at zero.
+    Together(Blendshape, Blendshape),
 }
 
 impl Row {
-    /// Every row, in order: neutral, then [`SHAPES`].
+    /// Every row, in order: neutral, then [`POSES`].
     pub fn all() -> Vec<Row> {
-        std::iter::once(Row::Neutral)
-            .chain(SHAPES.iter().map(|&s| Row::Shape(s)))
-            .collect()
+        std::iter::once(Row::Neutral).chain(POSES).collect()
     }
 
-    /// Its name: `neutral` or ARKit's spelling.
-    pub fn name(self) -> &'static str {
+    /// Its name: `neutral`, ARKit's spelling, or both joined by `+`.
+    pub fn name(self) -> String {
         match self {
-            Row::Neutral => "neutral",
-            Row::Shape(s) => s.name(),
+            Row::Neutral => "neutral".into(),
+            Row::Shape(s) => s.name().into(),
+            Row::Together(a, b) => format!("{}+{}", a.name(), b.name()),
+        }
+    }
+
+    /// The shapes at weight one (none at rest).
+    pub fn shapes(self) -> Vec<Blendshape> {
+        match self {
+            Row::Neutral => Vec::new(),
+            Row::Shape(s) => vec![s],
+            Row::Together(a, b) => vec![a, b],
         }
     }
 }
@@ -273,7 +286,7 @@ mod tests {
             "mouthFunnel",
             "browInnerUp",
             "eyeSquintLeft",
-            "mouthClose",
+            "jawOpen+mouthClose",
             "cheekPuff",
         ] {
             assert!(rows.iter().any(|r| r.name() == name), "{name}");

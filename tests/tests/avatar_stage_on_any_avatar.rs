@@ -94,8 +94,9 @@ fn every_generated_avatar_gets_the_persons_face_without_tears_open_blinks_or_lid
 /// On ICT-FaceKit (measured only, never committed): the face is found,
 /// the eyes and teeth too, and no shape tears over 0.5% of the head's
 /// edges. Its blink is printed, not asserted: the personalized blink does
-/// not close yet (issue 21 stays open on it; ICP with a free scale finds
-/// ICT's face at about two thirds of its size).
+/// not close yet (issue 21 stays open on it: ICT's lids fold into the eye
+/// sockets, so its eye openings are no boundary loops and the lid contacts
+/// find nothing to close).
 #[test]
 fn a_real_avatar_nobody_here_made_gets_the_persons_face_without_tears() {
     let Some(glb) = likeness_tests::shared_avatars::ict_facekit() else {

@@ -81,18 +81,7 @@ fn positions(built: &DefaultAvatar) -> Vec<DVec3> {
 fn avatar_mouth(built: &DefaultAvatar, s: &Subject, rim: &EyeHole) -> lid_contacts::EyeOpening {
     let avatar = &built.avatar;
     let offsets = avatar.vertex_offsets();
-    let triangles: Vec<[u32; 3]> = s
-        .found
-        .face_parts
-        .iter()
-        .flat_map(|&i| {
-            let o = offsets[i] as u32;
-            avatar.parts[i]
-                .triangles
-                .iter()
-                .map(move |t| t.map(|v| v + o))
-        })
-        .collect();
+    let triangles = avatar.triangles_of(&s.found.face_parts);
     let r = s.found.similarity.rotation;
     let mut found = lid_contacts::eye_openings(
         &positions(built),

@@ -612,17 +612,7 @@ fn vertices_outside_both_regions_stay_exactly_where_they_were() {
     let retargeted = s.retargeting.displacements(avatar);
     let positions: Vec<glam::DVec3> = avatar.positions().iter().map(|p| p.as_dvec3()).collect();
     let offsets = avatar.vertex_offsets();
-    let triangles: Vec<[u32; 3]> = found
-        .face_parts
-        .iter()
-        .flat_map(|&i| {
-            let o = offsets[i] as u32;
-            avatar.parts[i]
-                .triangles
-                .iter()
-                .map(move |t| t.map(|v| v + o))
-        })
-        .collect();
+    let triangles = avatar.triangles_of(&found.face_parts);
     let mut face = vec![false; positions.len()];
     for f in &found.map.face {
         face[f.vertex as usize] = true;

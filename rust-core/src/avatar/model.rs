@@ -88,6 +88,17 @@ impl Avatar {
             .collect()
     }
 
+    /// The triangles of the parts `parts` (indices into `self.parts`; those
+    /// out of range are skipped), as indices into [`Avatar::positions`].
+    pub fn triangles_of(&self, parts: &[usize]) -> Vec<[u32; 3]> {
+        let offsets = self.vertex_offsets();
+        parts
+            .iter()
+            .filter_map(|&i| Some((self.parts.get(i)?, offsets[i] as u32)))
+            .flat_map(|(part, o)| part.triangles.iter().map(move |t| t.map(|v| v + o)))
+            .collect()
+    }
+
     /// The avatar's morph targets as `(mesh, target)` pairs, in mesh order.
     pub fn target_ids(&self) -> Vec<(usize, usize)> {
         self.meshes

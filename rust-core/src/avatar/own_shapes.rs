@@ -109,11 +109,5 @@ pub fn avatar_as_person(
 /// The triangles of the parts the face was found on, in avatar vertex
 /// indices.
 pub fn face_part_triangles(avatar: &Avatar, registration: &FaceRegistration) -> Vec<[u32; 3]> {
-    let offsets = avatar.vertex_offsets();
-    registration
-        .face_parts
-        .iter()
-        .filter_map(|&i| Some((avatar.parts.get(i)?, offsets[i] as u32)))
-        .flat_map(|(part, o)| part.triangles.iter().map(move |t| t.map(|v| v + o)))
-        .collect()
+    avatar.triangles_of(&registration.face_parts)
 }

@@ -105,6 +105,12 @@ pub fn implant(
         .into_iter()
         .map(|d| d.into_iter().map(|x| x.as_dvec3()).collect())
         .collect();
+    // The avatar's own ARKit shapes, in Apple's order (`None` where it
+    // lacks one), read once.
+    let own_shapes: Vec<Option<Vec<DVec3>>> = Blendshape::ALL
+        .iter()
+        .map(|b| arkit_displacement(avatar, *b))
+        .collect();
 
     // Step 1.
     let face = FaceStep::new(&positions, &face_part_triangles, &registration.map)?;
@@ -197,15 +203,15 @@ pub fn implant(
     let person_moves = mapped;
     let still = STILL_MM * to_avatar;
     let mut faded = 0;
-    for (j, (d, b)) in full.iter_mut().zip(Blendshape::ALL).enumerate() {
+    for (j, (d, own)) in full.iter_mut().zip(&own_shapes).enumerate() {
         let mut moving = vec![false; n];
         for (f, m) in registration.map.face.iter().zip(&person_moves[j]) {
             if m.length() > still {
                 moving[f.vertex as usize] = true;
             }
         }
-        if let Some(own) = arkit_displacement(avatar, b) {
-            for (x, o) in moving.iter_mut().zip(&own) {
+        if let Some(own) = own {
+            for (x, o) in moving.iter_mut().zip(own) {
                 *x |= *o != DVec3::ZERO;
             }
         }
@@ -255,12 +261,11 @@ pub fn implant(
         .collect();
     let lids_repaired = full
         .iter_mut()
-        .zip(Blendshape::ALL)
-        .map(|(d, b)| {
-            let own = arkit_displacement(avatar, b).unwrap_or_default();
+        .zip(&own_shapes)
+        .map(|(d, own)| {
             repair_eyelids(
                 &positions,
-                &own,
+                own.as_deref().unwrap_or_default(),
                 d,
                 &skin,
                 &eyeballs,

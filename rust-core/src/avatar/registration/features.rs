@@ -37,6 +37,17 @@ pub const OPTIONAL: [Blendshape; 5] = [
     Blendshape::NoseSneerRight,
 ];
 
+/// The features every rig places alike, held through the whole non-rigid
+/// fit ([`super::nonrigid::Landmark::held`]). The blink's is the middle of
+/// the upper lid's margin, which is where any blink moves most: on our own
+/// variants (other proportions, low-poly, bones for eyes) the registered
+/// mask's blink feature lies within 1.5 mm of the avatar's. The others
+/// depend on how the rig's artist made the shape: `jawOpen` moves the
+/// chin most on one rig and the lower lip on another (20 mm apart on
+/// ICT-FaceKit), `noseSneer` the nostril's wing or the crease above it
+/// (17 mm); they only bring the mask near and then fade.
+pub const HELD: [Blendshape; 2] = [Blendshape::EyeBlinkLeft, Blendshape::EyeBlinkRight];
+
 /// The feature of one shape (module docs): `None` when it moves nothing.
 pub fn feature_point(rest: &[DVec3], displacement: &[DVec3]) -> Option<DVec3> {
     let weights = feature_weights(displacement)?;

@@ -31,7 +31,7 @@
 
 use super::correspondence::{CorrespondenceMap, correspondence_map};
 use super::eyeballs::find_eyeballs;
-use super::features::{REQUIRED, feature_weights, rig_features};
+use super::features::{HELD, REQUIRED, feature_weights, rig_features};
 use super::nonrigid::{Landmark, MIN_NORMAL_DOT, SEARCH_RADIUS, register_nonrigid, vertex_normals};
 use super::rigid_icp::icp_with_scale;
 use super::similarity::{Similarity, fit_similarity};
@@ -71,6 +71,18 @@ pub const REACH: f64 = 1.5;
 /// feature, a motion-weighted mean over a few dozen vertices, moves by
 /// about this much between two samplings of one rig.
 pub const LANDMARK_SLACK_MM: f64 = 0.5;
+
+/// The slack of a held landmark ([`super::features::HELD`]), which pulls
+/// through the whole fit (mm at the mask's scale): two samplings of one
+/// rig place the blink's feature up to 1.5 mm apart (our low-poly
+/// variant; 0.7 mm on a remeshed mask), and a held landmark with less
+/// slack would drag a lid that already lies right.
+pub const HELD_SLACK_MM: f64 = 2.0;
+
+/// The rigid fit's features pull only beyond this distance (mm at the
+/// mask's scale): two discretizations of one rig already place them up to
+/// 3.5 mm apart (the jaw's, on the low-poly variant of our own avatar).
+pub const FEATURE_SLACK_MM: f64 = 4.0;
 
 /// Pixel side of the depth buffer that decides which skin the mask may
 /// lie on (mm, mask scale): finer than the few millimetres between lips
@@ -262,7 +274,15 @@ pub fn find_face(
 
     // ICP with scale, then non-rigid, the features as landmarks.
     let mask_normals = vertex_normals(rig.neutral(), mask.triangles());
-    let icp = icp_with_scale(rig.neutral(), &mask_normals, &skin, initial);
+    let feature_pairs: Vec<(DVec3, DVec3)> = p.iter().copied().zip(q.iter().copied()).collect();
+    let icp = icp_with_scale(
+        rig.neutral(),
+        &mask_normals,
+        &skin,
+        initial,
+        &feature_pairs,
+        FEATURE_SLACK_MM / 1000.0,
+    );
     let placed: Vec<DVec3> = rig
         .neutral()
         .iter()
@@ -274,7 +294,11 @@ pub fn find_face(
             Some(Landmark {
                 mask: feature_weights(rig.delta(*b))?,
                 target: *target,
-                slack: LANDMARK_SLACK_MM * mm,
+                slack: match HELD.contains(b) {
+                    true => HELD_SLACK_MM * mm,
+                    false => LANDMARK_SLACK_MM * mm,
+                },
+                held: HELD.contains(b),
             })
         })
         .collect();
@@ -325,11 +349,12 @@ pub fn find_face(
     let face_parts: Vec<usize> = (0..avatar.parts.len())
         .filter(|&i| hits[i] as f64 >= needed)
         .collect();
+    let avatar_normals = vertex_normals(&positions, &avatar.triangles_of(&face_parts));
     let candidates = face_parts
         .iter()
         .flat_map(|&i| offsets[i]..offsets[i + 1])
         .filter(|&v| !is_eyeball[v])
-        .map(|v| (v, positions[v]));
+        .map(|v| (v, positions[v], avatar_normals[v]));
     let map = correspondence_map(
         candidates,
         &registered.positions,
@@ -386,7 +411,7 @@ fn uncovered_region(neutral: &[DVec3], kept: &[bool]) -> String {
 
 /// Version of the registration's rules: part of the cache key, so a cached
 /// result from older rules is never taken for a new one.
-pub const REGISTRATION_VERSION: u32 = 2;
+pub const REGISTRATION_VERSION: u32 = 3;
 
 /// The key a registration is cached under: the rules' version, the
 /// avatar's vertex count and a CRC-32 of its rest geometry and triangles

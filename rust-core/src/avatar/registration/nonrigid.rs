@@ -109,6 +109,10 @@ pub struct Landmark {
     /// last fraction of a millimetre would slide a mask that already lies
     /// right.
     pub slack: f64,
+    /// Held at the first stage's weight through every stage instead of
+    /// fading with the stiffness: for a feature that every rig places
+    /// alike (module docs).
+    pub held: bool,
 }
 
 /// The registered mask and how well it fits.
@@ -160,6 +164,7 @@ pub fn register_nonrigid(
             mask: l.mask.clone(),
             target: to_local(l.target),
             slack: l.slack / radius,
+            held: l.held,
         })
         .collect();
     let mut x = local.clone();
@@ -352,15 +357,21 @@ fn step_entries(
 /// agree when the feature's vertices move together, and repeated steps
 /// bring `F` to `f` the same way. The offset is shortened by the
 /// landmark's slack (zero within it). Returns (vertex, weight share,
-/// target).
-fn landmark_pulls(landmarks: &[Landmark], x: &[DVec3]) -> Vec<(usize, f64, DVec3)> {
+/// target, held).
+fn landmark_pulls(landmarks: &[Landmark], x: &[DVec3]) -> Vec<(usize, f64, DVec3, bool)> {
     let mut pulls = Vec::new();
     for l in landmarks {
         let feature: DVec3 = l.mask.iter().map(|&(i, a)| x[i] * a).sum();
         let gap = l.target - feature;
-        let offset =
-            gap * ((gap.length() - l.slack).max(0.0) / gap.length().max(f64::MIN_POSITIVE));
-        pulls.extend(l.mask.iter().map(|&(i, a)| (i, a, x[i] + offset)));
+        let beyond = gap.length() - l.slack;
+        if l.held && beyond <= 0.0 {
+            // Within its slack a held landmark takes no part: held where
+            // it is through the suple stages, it would pin the lids while
+            // the rest of the mask settles.
+            continue;
+        }
+        let offset = gap * (beyond.max(0.0) / gap.length().max(f64::MIN_POSITIVE));
+        pulls.extend(l.mask.iter().map(|&(i, a)| (i, a, x[i] + offset, l.held)));
     }
     pulls
 }
@@ -411,8 +422,10 @@ fn solve_step(
             pull(i, pair.weight, pair.point, &mut rhs);
         }
     }
-    let beta = LANDMARK_WEIGHT * alpha * (alpha / INITIAL_STIFFNESS);
-    for (i, share, target) in landmark_pulls(landmarks, x) {
+    let fading = LANDMARK_WEIGHT * alpha * (alpha / INITIAL_STIFFNESS);
+    let held = LANDMARK_WEIGHT * INITIAL_STIFFNESS;
+    for (i, share, target, is_held) in landmark_pulls(landmarks, x) {
+        let beta = if is_held { held } else { fading };
         pull(i, beta * share, target, &mut rhs);
     }
     let entries = step_entries(n, &system.edges, alpha, &blocks);

@@ -80,7 +80,6 @@ fn positions(built: &DefaultAvatar) -> Vec<DVec3> {
 /// The avatar's mouth opening, found as the product finds eye openings.
 fn avatar_mouth(built: &DefaultAvatar, s: &Subject, rim: &EyeHole) -> lid_contacts::EyeOpening {
     let avatar = &built.avatar;
-    let offsets = avatar.vertex_offsets();
     let triangles = avatar.triangles_of(&s.found.face_parts);
     let r = s.found.similarity.rotation;
     let mut found = lid_contacts::eye_openings(

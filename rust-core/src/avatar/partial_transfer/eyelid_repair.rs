@@ -12,11 +12,12 @@
 //! skin vertices within the eyeball's radius plus [`NEAR_MM`] of its centre
 //! at rest, and within its bounding sphere in the shape, are looked at (an
 //! eyeball turns about its centre, so the sphere holds it in every shape),
-//! and only those outside it at rest and under the avatar's own shape of
-//! the same name: a vertex the avatar keeps inside an eyeball's shell at
-//! rest (a lid margin under a cornea shell), or that its own shape moves
-//! inside (a lid an eyeLook target leaves behind a turned eyeball), is the
-//! rig's own.
+//! and each may stay as deep inside as the avatar's own shape of the same
+//! name keeps it (as it rests where the avatar has no such shape): a
+//! vertex the avatar keeps inside an eyeball's shell (a lid margin under a
+//! cornea shell, or a lid an eyeLook target leaves behind a turned
+//! eyeball) is the rig's own, and one the own shape keeps out is put out,
+//! however it rests.
 
 use crate::geometry::closest_point::TriangleGrid;
 use glam::DVec3;
@@ -68,9 +69,11 @@ impl Eyeball {
 
 /// Repairs one shape's `displacement` (all avatar vertices, `rest` their
 /// positions; `own` the avatar's own shape of that name, empty if it has
-/// none): every vertex of `skin` that ends inside an eyeball, where the
-/// avatar keeps it outside at rest and under `own`, is moved onto it,
-/// `offset` (avatar units) outside. Returns how many were moved.
+/// none): every vertex of `skin` that ends inside an eyeball where `own`
+/// keeps it outside is moved onto it, `offset` (avatar units) outside;
+/// one that `own` keeps inside too, but ends deeper by more than `offset`,
+/// is moved back to `own`'s depth (module docs). Returns how many were
+/// moved.
 pub fn repair_eyelids(
     rest: &[DVec3],
     own: &[DVec3],
@@ -107,19 +110,32 @@ pub fn repair_eyelids(
             {
                 continue;
             }
-            // A vertex the avatar itself keeps inside at rest (a lid
-            // margin tucked under a rig's cornea shell) is the rig's
-            // choice, not a lid passing through.
-            if inside(&at_rest, *p0).is_some() || inside(&under_own, own_posed[v]).is_some() {
-                continue;
-            }
+            // How deep the avatar's own shape of this name keeps the
+            // vertex (at rest where it has none): a lid margin tucked under
+            // a rig's cornea shell, or left behind a turned eyeball, is the
+            // rig's choice, not a lid passing through.
+            let allowed = match own.is_empty() {
+                true => depth(&at_rest, *p0),
+                false => depth(&under_own, own_posed[v]),
+            };
             if let Some((point, normal)) = inside(&grid, *p) {
-                displacement[v] = point + normal * offset - *p0;
-                moved += 1;
+                let deeper = (point - *p).dot(normal);
+                if allowed == 0.0 {
+                    displacement[v] = point + normal * offset - *p0;
+                    moved += 1;
+                } else if deeper > allowed + offset {
+                    displacement[v] = point - normal * allowed - *p0;
+                    moved += 1;
+                }
             }
         }
     }
     moved
+}
+
+/// How far `p` lies inside `grid` (zero outside).
+fn depth(grid: &TriangleGrid, p: DVec3) -> f64 {
+    inside(grid, p).map_or(0.0, |(c, normal)| (c - p).dot(normal))
 }
 
 /// The closest point of `grid` to `p` and its triangle's normal, if `p`
@@ -177,14 +193,29 @@ mod tests {
         let at = rest[8] + d[8];
         assert!((at - DVec3::new(0.1, 0.1, 0.51)).length() < 1e-12, "{at}");
         assert_eq!(d[9], DVec3::ZERO);
-        // Where the avatar's own shape moves the vertex inside too, it is
-        // the rig's choice and left alone.
+        // Where the avatar's own shape moves the vertex inside too (0.1
+        // deep), that depth is the rig's choice: kept within it (and the
+        // offset) it is left alone, deeper it goes back to it.
         let mut own = vec![DVec3::ZERO; rest.len()];
         own[8] = DVec3::new(0.0, 0.0, -0.3);
         let mut d = vec![DVec3::ZERO; rest.len()];
-        d[8] = DVec3::new(0.0, 0.0, -0.4);
-        let moved = repair_eyelids(&rest, &own, &mut d, &[8, 9], &[eyeball], 0.01, 1.0);
+        d[8] = DVec3::new(0.0, 0.0, -0.305);
+        let moved = repair_eyelids(&rest, &own, &mut d, &[8, 9], &[eyeball.clone()], 0.01, 1.0);
         assert_eq!(moved, 0);
-        assert_eq!(d[8], DVec3::new(0.0, 0.0, -0.4));
+        assert_eq!(d[8], DVec3::new(0.0, 0.0, -0.305));
+        d[8] = DVec3::new(0.0, 0.0, -0.4);
+        let moved = repair_eyelids(&rest, &own, &mut d, &[8, 9], &[eyeball.clone()], 0.01, 1.0);
+        assert_eq!(moved, 1);
+        assert!((rest[8] + d[8] - DVec3::new(0.1, 0.1, 0.4)).length() < 1e-12);
+        // A vertex resting inside (a margin under a cornea shell) that the
+        // own shape brings out is put out with it.
+        let mut rest_in = rest.clone();
+        rest_in[8] = DVec3::new(0.1, 0.1, 0.45);
+        let mut own = vec![DVec3::ZERO; rest.len()];
+        own[8] = DVec3::new(0.0, 0.0, 0.2);
+        let mut d = vec![DVec3::ZERO; rest.len()];
+        let moved = repair_eyelids(&rest_in, &own, &mut d, &[8, 9], &[eyeball], 0.01, 1.0);
+        assert_eq!(moved, 1);
+        assert!((rest_in[8] + d[8] - DVec3::new(0.1, 0.1, 0.51)).length() < 1e-12);
     }
 }

@@ -2,8 +2,9 @@
 //! region next to the face (under the chin, the neck, around the ears)
 //! deformed from the automatic retargeting `A_j`, with the face fixed.
 //!
-//! The adjacent region `N` is every vertex of the face's parts that moves
-//! in some `A_j` and is not a face vertex. With `D_F` the face step's
+//! The adjacent region `N` is every vertex of the face's parts within a
+//! blend margin of the face along the surface
+//! ([`super::BLEND_MARGIN_MM`]) that is not a face vertex. With `D_F` the face step's
 //! displacement, the result is `D = A_j + C`: `A_j` with a correction `C`
 //! that is `D_F − A_j` on the face, zero beyond `N`, and as smooth as can
 //! be in between. Smooth means bi-Laplacian: `C` minimizes `Σ_r ‖(L C)_r‖²`
@@ -18,9 +19,12 @@
 //! ```
 //!
 //! The matrix depends only on the avatar: factored once, every shape is a
-//! solve. Vertices outside the face and `N` stay exactly where the avatar
-//! has them; a vertex of `N` that a particular `A_j` does not move may take
-//! a small part of `C`.
+//! solve. Vertices outside the face and `N` take `A_j` exactly; a vertex
+//! of `N` that a particular `A_j` does not move may take a small part of
+//! `C`. `N` stops at the margin, not where `A_j` stops moving, because the
+//! bi-Laplacian costs nothing for a `C` that runs on linearly: where `N`
+//! reached an open edge of the mesh (a neck's cut), `C` ran on to it
+//! unchecked, and ICT-FaceKit's neck moved 16 mm in `jawOpen`.
 
 use super::lid_contacts::{LidContact, least_energy_closing};
 use crate::geometry::edge_distance::edge_distances;
@@ -50,10 +54,10 @@ pub struct AdjacentStep {
 
 impl AdjacentStep {
     /// Prepares `N` (module docs) from the parts' `triangles` (avatar
-    /// indices), the face vertices `face` and `moving` (whether a vertex
-    /// moves in some `A_j`), all indexed by avatar vertex.
-    pub fn new(triangles: &[[u32; 3]], face: &[bool], moving: &[bool]) -> AdjacentStep {
-        let n = face.len().min(moving.len());
+    /// indices), the face vertices `face` and `near` (whether a vertex is
+    /// within the blend margin of the face), all indexed by avatar vertex.
+    pub fn new(triangles: &[[u32; 3]], face: &[bool], near: &[bool]) -> AdjacentStep {
+        let n = face.len().min(near.len());
         let mut neighbours: HashMap<u32, BTreeSet<u32>> = HashMap::new();
         for t in triangles {
             if t.iter().any(|&v| v as usize >= n) {
@@ -68,7 +72,7 @@ impl AdjacentStep {
             }
         }
         let region: Vec<u32> = (0..n as u32)
-            .filter(|&v| moving[v as usize] && !face[v as usize] && neighbours.contains_key(&v))
+            .filter(|&v| near[v as usize] && !face[v as usize] && neighbours.contains_key(&v))
             .collect();
         let local: HashMap<u32, usize> = region.iter().enumerate().map(|(i, v)| (*v, i)).collect();
         // The rows: every vertex of N, and every face vertex next to N.

@@ -38,10 +38,11 @@ use rigid_parts::make_rigid;
 use stay_put::{FADE_MM, STILL_MM, fade_still};
 
 /// Skin within this distance of the face region (mm at the mask's scale,
-/// along the surface) joins the adjacent region even where no `A_j` moves
-/// it, so that the person's motion at the mask's rim (a brow raise moves
-/// the top of the forehead) fades out over it instead of stopping at one
-/// edge.
+/// along the surface) is the adjacent region of step 2: the difference
+/// between the person's motion and `A_j` at the mask's rim (a brow raise
+/// moves the top of the forehead) fades out over it instead of stopping
+/// at one edge, and beyond it the avatar follows `A_j` alone
+/// ([`adjacent_step`]).
 pub const BLEND_MARGIN_MM: f64 = 30.0;
 
 /// Why the shapes could not be implanted.
@@ -181,10 +182,8 @@ pub fn implant(
         &is_face,
         BLEND_MARGIN_MM * registration.similarity.scale / 1000.0,
     );
-    let moving: Vec<bool> = (0..n)
-        .map(|v| in_face_parts[v] && (margin[v] || retargeted.iter().any(|a| a[v] != DVec3::ZERO)))
-        .collect();
-    let adjacent = AdjacentStep::new(&face_part_triangles, &is_face, &moving);
+    let near: Vec<bool> = (0..n).map(|v| in_face_parts[v] && margin[v]).collect();
+    let adjacent = AdjacentStep::new(&face_part_triangles, &is_face, &near);
     if !adjacent.complete(&mut full, &retargeted) {
         return Err(ImplantError::Adjacent);
     }

@@ -200,11 +200,27 @@ mod tests {
         own[8] = DVec3::new(0.0, 0.0, -0.3);
         let mut d = vec![DVec3::ZERO; rest.len()];
         d[8] = DVec3::new(0.0, 0.0, -0.305);
-        let moved = repair_eyelids(&rest, &own, &mut d, &[8, 9], &[eyeball.clone()], 0.01, 1.0);
+        let moved = repair_eyelids(
+            &rest,
+            &own,
+            &mut d,
+            &[8, 9],
+            std::slice::from_ref(&eyeball),
+            0.01,
+            1.0,
+        );
         assert_eq!(moved, 0);
         assert_eq!(d[8], DVec3::new(0.0, 0.0, -0.305));
         d[8] = DVec3::new(0.0, 0.0, -0.4);
-        let moved = repair_eyelids(&rest, &own, &mut d, &[8, 9], &[eyeball.clone()], 0.01, 1.0);
+        let moved = repair_eyelids(
+            &rest,
+            &own,
+            &mut d,
+            &[8, 9],
+            std::slice::from_ref(&eyeball),
+            0.01,
+            1.0,
+        );
         assert_eq!(moved, 1);
         assert!((rest[8] + d[8] - DVec3::new(0.1, 0.1, 0.4)).length() < 1e-12);
         // A vertex resting inside (a margin under a cornea shell) that the

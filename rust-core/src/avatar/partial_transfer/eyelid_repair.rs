@@ -178,17 +178,21 @@ mod tests {
         rest.push(DVec3::new(0.1, 0.1, 0.7));
         rest.push(DVec3::new(0.0, 0.0, 0.9));
         let eyeball = Eyeball::new(&rest, triangles);
+        // Vertices 8 and 9 as skin, 0.01 offset, 1 near.
+        let repair = |rest: &[DVec3], own: &[DVec3], d: &mut [DVec3]| {
+            repair_eyelids(
+                rest,
+                own,
+                d,
+                &[8, 9],
+                std::slice::from_ref(&eyeball),
+                0.01,
+                1.0,
+            )
+        };
         let mut d = vec![DVec3::ZERO; rest.len()];
         d[8] = DVec3::new(0.0, 0.0, -0.4);
-        let moved = repair_eyelids(
-            &rest,
-            &[],
-            &mut d,
-            &[8, 9],
-            std::slice::from_ref(&eyeball),
-            0.01,
-            1.0,
-        );
+        let moved = repair(&rest, &[], &mut d);
         assert_eq!(moved, 1);
         let at = rest[8] + d[8];
         assert!((at - DVec3::new(0.1, 0.1, 0.51)).length() < 1e-12, "{at}");
@@ -200,27 +204,11 @@ mod tests {
         own[8] = DVec3::new(0.0, 0.0, -0.3);
         let mut d = vec![DVec3::ZERO; rest.len()];
         d[8] = DVec3::new(0.0, 0.0, -0.305);
-        let moved = repair_eyelids(
-            &rest,
-            &own,
-            &mut d,
-            &[8, 9],
-            std::slice::from_ref(&eyeball),
-            0.01,
-            1.0,
-        );
+        let moved = repair(&rest, &own, &mut d);
         assert_eq!(moved, 0);
         assert_eq!(d[8], DVec3::new(0.0, 0.0, -0.305));
         d[8] = DVec3::new(0.0, 0.0, -0.4);
-        let moved = repair_eyelids(
-            &rest,
-            &own,
-            &mut d,
-            &[8, 9],
-            std::slice::from_ref(&eyeball),
-            0.01,
-            1.0,
-        );
+        let moved = repair(&rest, &own, &mut d);
         assert_eq!(moved, 1);
         assert!((rest[8] + d[8] - DVec3::new(0.1, 0.1, 0.4)).length() < 1e-12);
         // A vertex resting inside (a margin under a cornea shell) that the
@@ -230,7 +218,7 @@ mod tests {
         let mut own = vec![DVec3::ZERO; rest.len()];
         own[8] = DVec3::new(0.0, 0.0, 0.2);
         let mut d = vec![DVec3::ZERO; rest.len()];
-        let moved = repair_eyelids(&rest_in, &own, &mut d, &[8, 9], &[eyeball], 0.01, 1.0);
+        let moved = repair(&rest_in, &own, &mut d);
         assert_eq!(moved, 1);
         assert!((rest_in[8] + d[8] - DVec3::new(0.1, 0.1, 0.51)).length() < 1e-12);
     }

@@ -366,7 +366,7 @@ fn landmark_pulls(landmarks: &[Landmark], x: &[DVec3]) -> Vec<(usize, f64, DVec3
         let beyond = gap.length() - l.slack;
         if l.held && beyond <= 0.0 {
             // Within its slack a held landmark takes no part: held where
-            // it is through the suple stages, it would pin the lids while
+            // it is through the supple stages, it would pin the lids while
             // the rest of the mask settles.
             continue;
         }

@@ -432,8 +432,13 @@ fn the_default_avatars_face_is_found_where_it_truly_is() {
 }
 
 /// Eq. (4) on the default avatar with the generic template as `B_j`: the
-/// avatar's own targets (the template interpolated on its face, continued
-/// past the mask) reproduce `M T_j`.
+/// avatar's own targets are the template interpolated on its face and
+/// continued past the mask, so each `A_j` is the avatar's own target of
+/// that name (weight 1 within 1%, every other weight within 1% of 0).
+/// The residual is compared at the mask's resolution (`M S(B̃_i)`), where
+/// the fit's pull towards the skin's point values leaves shapes that
+/// barely move the face region (mouthRoll*) up to 57% of their small
+/// motion there; it is printed, not asserted.
 #[test]
 fn retargeting_the_template_onto_the_default_avatar_reproduces_it() {
     use likeness::avatar::retargeting::retarget;
@@ -458,8 +463,19 @@ fn retargeting_the_template_onto_the_default_avatar_reproduces_it() {
         retargeting.outside_unit_range()
     );
     for shape in Blendshape::ALL {
-        let r = retargeting.relative_residual[shape.index()];
-        assert!(r < 0.03, "{shape}: relative residual {r}");
+        let own = retargeting
+            .targets
+            .iter()
+            .position(|t| t.name == shape.name())
+            .expect("the avatar has every ARKit target");
+        for (i, w) in retargeting.weights[shape.index()].iter().enumerate() {
+            let expected = if i == own { 1.0 } else { 0.0 };
+            assert!(
+                (w - expected).abs() <= 0.01,
+                "{shape}: weight {w} on {}",
+                retargeting.targets[i].name
+            );
+        }
     }
     // The teeth, the tongue and the neck come along: A_jawOpen moves the
     // lower teeth as the avatar's own jawOpen does.

@@ -1,24 +1,44 @@
-//! The avatar's own shapes seen through the registration, `S_j`: each
-//! registered mask vertex takes the avatar's own displacement (its morph
-//! target named `j`, halves summed) at the point where it lies on the
-//! avatar's skin, carried back into the mask's frame,
+//! An avatar field seen by the registered mask, `S f`, and the avatar's
+//! own shapes seen that way, `S_j = S Ã_j` (its morph target named `j`,
+//! halves summed).
+//!
+//! `S f` is the field on the mask's vertices that the correspondence map
+//! `M` carries back onto the avatar's face closest to `f`, each vertex
+//! pulled weakly towards `f`'s value at the point where it lies on the
+//! skin, `f(p_i)`:
 //!
 //! ```text
-//! S_j(i) = Rᵀ (Σ_k β_ik Ã_j(v_ik)) / s,
+//! S f = argmin_s Σ_{v ∈ F} ‖(M s)_v − f_v‖² + ε Σ_i ‖s_i − f(p_i)‖²,
+//! (MᵀM + εI) S f = Mᵀ f + ε f(p),      f(p_i) = Σ_k β_ik f(v_ik),
 //! ```
 //!
 //! with `v_ik`, `β_ik` the corners and barycentrics of the avatar point
 //! closest to registered mask vertex `i` among those facing the same way
-//! (normals within 60°), and `s R` the registration's
-//! similarity (mask → avatar).
+//! (normals within 60°), and `ε` [`POINT_PULL`] times the mean diagonal of
+//! `MᵀM`. A vertex the map does not see (the rims of the eye and mouth
+//! holes, beyond the face region) takes `f(p_i)`. `MᵀM + εI` depends only
+//! on the registration: factored once, each field is one solve.
 //!
-//! This is the round trip of issue 21: given `S_j` as the person
-//! ([`avatar_as_person`]), the implanted avatar should give back its own
-//! targets. Measured by `likeness-tests`' `avatar_study` example; the
-//! pipeline does not use `S_j` yet (issue 21: carrying
-//! the person's deviation `B_j − k_j S_j` and adding `k_j Ã_j` made the
-//! round trip exact but pulled the personalized avatar away from the
-//! person's mask at the lips).
+//! **Why a fit, not the point values alone.** Where the avatar's field is
+//! linear across each mask triangle (our default avatar's targets are the
+//! template interpolated so), the fit gives back the mask's values
+//! exactly, while the point values come out lower at every vertex where
+//! the field bends (an avatar triangle spans the bend); on a smooth
+//! artist's field both agree. `S_j` in the mask's frame is
+//! `Rᵀ (S Ã_j) / s` with `s R` the registration's similarity
+//! (mask → avatar).
+//!
+//! `S` serves the pipeline twice, so that what the mask
+//! cannot resolve never reaches the transfer as if it were motion: Eq. (4)
+//! compares the person's shapes with the avatar's targets seen through it
+//! ([`crate::avatar::retargeting`]), and step 1 carries only the person's
+//! deviation from `A_j` as the mask sees it, `B_j − S(A_j)`, adding `A_j`
+//! itself at the avatar's own resolution
+//! ([`crate::avatar::partial_transfer`]).
+//!
+//! Given `S_j` as the person ([`avatar_as_person`]), the implanted avatar
+//! gives back its own targets: the round trip of issue 21, checked on
+//! every avatar the project generates (`tests/tests/avatar_round_trip.rs`).
 
 use super::model::Avatar;
 use super::registration::FaceRegistration;
@@ -26,8 +46,147 @@ use super::registration::find_face::arkit_displacement;
 use super::registration::nonrigid::vertex_normals;
 use super::registration::rigid_icp::MIN_NORMAL_DOT;
 use crate::arkit::{Blendshape, Blendshapes, BlendshapesError};
-use crate::geometry::closest_point::{ClosestPoint, TriangleGrid};
+use crate::geometry::closest_point::TriangleGrid;
+use faer::linalg::solvers::Solve;
+use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
+use faer::sparse::{SparseColMat, Triplet};
+use faer::{Mat, Side};
 use glam::DVec3;
+
+/// `ε`, the pull of each mask vertex towards the avatar's value at its
+/// point, relative to the mean diagonal of `MᵀM` (module docs). Small
+/// enough that a vertex the map sees fully is fitted to within a per cent
+/// of its rows' weight; large enough that one the map barely sees (a
+/// corner of a triangle at the region's edge, weight `β² ≪ 1`) stays at
+/// its point's value instead of swinging to fit a single row.
+pub const POINT_PULL: f64 = 1e-2;
+
+/// `S`: an avatar field seen by the registered mask (module docs), ready
+/// to apply: where each mask vertex lies on the skin, and the normal
+/// equations of the fit, factored once.
+pub struct MaskOnSkin {
+    /// Per mask vertex, the corners and barycentrics of its point on the
+    /// avatar's skin.
+    points: Vec<Option<([u32; 3], [f64; 3])>>,
+    /// `M`: per face vertex, its avatar index, mask triangle and
+    /// barycentrics.
+    rows: Vec<(u32, [u32; 3], [f64; 3])>,
+    /// `ε` (absolute).
+    pull: f64,
+    /// `MᵀM + εI`, factored (`None`: the points' values stand alone).
+    llt: Option<Llt<usize, f64>>,
+}
+
+impl MaskOnSkin {
+    /// Finds the points for `registration` on the avatar with rest
+    /// `positions` and face-part triangles `face_triangles` (avatar vertex
+    /// indices), and factors the fit.
+    pub fn new(
+        registration: &FaceRegistration,
+        positions: &[DVec3],
+        face_triangles: &[[u32; 3]],
+    ) -> MaskOnSkin {
+        let grid = TriangleGrid::new(positions, face_triangles);
+        // The compatible closest point (normals within 60°, as the
+        // registration pairs them): a mask vertex on the lip's edge takes
+        // the lip's outer skin, not the lining of the mouth behind it,
+        // which the avatar's own mouthRollLower moves quite differently.
+        let normals = vertex_normals(
+            &registration.mask_on_avatar,
+            &registration.map.mask_triangles,
+        );
+        let points: Vec<_> = registration
+            .mask_on_avatar
+            .iter()
+            .zip(&normals)
+            .map(|(p, n)| {
+                grid.closest_facing(*p, *n, MIN_NORMAL_DOT, f64::INFINITY)
+                    .or_else(|| grid.closest(*p))
+                    .map(|c| (grid.triangles()[c.triangle], c.barycentric))
+            })
+            .collect();
+        let n = points.len();
+        let triangles = &registration.map.mask_triangles;
+        let rows: Vec<(u32, [u32; 3], [f64; 3])> = registration
+            .map
+            .face
+            .iter()
+            .filter_map(|f| {
+                let t = *triangles.get(f.triangle as usize)?;
+                t.iter()
+                    .all(|&i| (i as usize) < n)
+                    .then_some((f.vertex, t, f.barycentric))
+            })
+            .collect();
+        let mut diagonal = vec![0.0; n];
+        let mut entries = Vec::with_capacity(9 * rows.len() + n);
+        for (_, t, b) in &rows {
+            for k in 0..3 {
+                diagonal[t[k] as usize] += b[k] * b[k];
+                for i in 0..3 {
+                    if t[k] >= t[i] {
+                        entries.push(Triplet::new(t[k] as usize, t[i] as usize, b[k] * b[i]));
+                    }
+                }
+            }
+        }
+        let seen = diagonal.iter().filter(|d| **d > 0.0).count();
+        let mean = diagonal.iter().sum::<f64>() / seen.max(1) as f64;
+        let pull = POINT_PULL * if mean > 0.0 { mean } else { 1.0 };
+        entries.extend((0..n).map(|i| Triplet::new(i, i, pull)));
+        let llt = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &entries)
+            .ok()
+            .and_then(|matrix| {
+                let symbolic = SymbolicLlt::try_new(matrix.symbolic(), Side::Lower).ok()?;
+                Llt::try_new_with_symbolic(symbolic, matrix.as_ref(), Side::Lower).ok()
+            });
+        MaskOnSkin {
+            points,
+            rows,
+            pull,
+            llt,
+        }
+    }
+
+    /// `S f`: the avatar displacement `field` (one per avatar vertex,
+    /// avatar frame) as a field on the mask's vertices, still in the
+    /// avatar's frame (module docs); a missing point or vertex counts as
+    /// zero.
+    pub fn see(&self, field: &[DVec3]) -> Vec<DVec3> {
+        let at = |v: u32| field.get(v as usize).copied().unwrap_or(DVec3::ZERO);
+        let sampled: Vec<DVec3> = self
+            .points
+            .iter()
+            .map(|p| match p {
+                Some((t, w)) => t.iter().zip(w).map(|(&v, w)| at(v) * *w).sum(),
+                None => DVec3::ZERO,
+            })
+            .collect();
+        let Some(llt) = &self.llt else {
+            return sampled;
+        };
+        // Mᵀ f + ε f(p).
+        let n = sampled.len();
+        let mut rhs = Mat::<f64>::zeros(n, 3);
+        for (i, x) in sampled.iter().enumerate() {
+            for axis in 0..3 {
+                rhs[(i, axis)] = self.pull * x[axis];
+            }
+        }
+        for (v, t, b) in &self.rows {
+            let value = at(*v);
+            for k in 0..3 {
+                for axis in 0..3 {
+                    rhs[(t[k] as usize, axis)] += b[k] * value[axis];
+                }
+            }
+        }
+        llt.solve_in_place(&mut rhs);
+        (0..n)
+            .map(|i| DVec3::new(rhs[(i, 0)], rhs[(i, 1)], rhs[(i, 2)]))
+            .collect()
+    }
+}
 
 /// For each ARKit shape (Apple's order), `S_j` at every registered mask
 /// vertex in the mask's frame (module docs); `None` where the avatar has
@@ -39,44 +198,17 @@ pub fn own_shapes_on_mask(
     positions: &[DVec3],
     face_triangles: &[[u32; 3]],
 ) -> Vec<Option<Vec<DVec3>>> {
-    let grid = TriangleGrid::new(positions, face_triangles);
-    // The compatible closest point (normals within 60°, as the
-    // registration pairs them): a mask vertex on the lip's edge takes the
-    // lip's outer skin, not the lining of the mouth behind it, which the
-    // avatar's own mouthRollLower moves quite differently.
-    let normals = vertex_normals(
-        &registration.mask_on_avatar,
-        &registration.map.mask_triangles,
-    );
-    let found: Vec<Option<ClosestPoint>> = registration
-        .mask_on_avatar
-        .iter()
-        .zip(&normals)
-        .map(|(p, n)| {
-            grid.closest_facing(*p, *n, MIN_NORMAL_DOT, f64::INFINITY)
-                .or_else(|| grid.closest(*p))
-        })
-        .collect();
-    let points: Vec<Option<([u32; 3], [f64; 3])>> = found
-        .iter()
-        .map(|c| c.map(|c| (grid.triangles()[c.triangle], c.barycentric)))
-        .collect();
+    let on_skin = MaskOnSkin::new(registration, positions, face_triangles);
     let back = registration.similarity;
     Blendshape::ALL
         .iter()
         .map(|b| {
             let own = arkit_displacement(avatar, *b)?;
-            let at = |v: u32| own.get(v as usize).copied().unwrap_or(DVec3::ZERO);
             Some(
-                points
-                    .iter()
-                    .map(|p| match p {
-                        Some((t, w)) => {
-                            let d: DVec3 = t.iter().zip(w).map(|(&v, w)| at(v) * *w).sum();
-                            back.rotation.transpose() * d / back.scale
-                        }
-                        None => DVec3::ZERO,
-                    })
+                on_skin
+                    .see(&own)
+                    .into_iter()
+                    .map(|d| back.rotation.transpose() * d / back.scale)
                     .collect(),
             )
         })

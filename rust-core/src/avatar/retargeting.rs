@@ -16,6 +16,16 @@
 //! Cholesky factorization. `M B_j` is the mask's displacement carried into
 //! the avatar's frame by the registration's similarity (`s R δ`, then `M`).
 //!
+//! **Like with like.** `M B_j` is a field at the mask's resolution: linear
+//! across each mask triangle. `G`'s columns are therefore the avatar's
+//! targets seen the same way, `M S(B̃_i)`: fitted at the mask's vertices
+//! and carried back by `M` ([`crate::avatar::own_shapes`]). Compared with
+//! the targets themselves,
+//! a person who moves exactly as the avatar's `jawOpen` would leave a
+//! residual of detail finer than the mask (at the lips' rims), and other
+//! targets would be mixed in to fit it (on the default avatar the round
+//! trip's `mouthRollLower` moved the tongue by 18% of the shape's motion).
+//!
 //! **Why the prior.** With the paper's `μ Σ w̃_i²`, a target the face does
 //! not see (eyeLook rotating an eyeball, tongueOut moving the tongue) gets
 //! weight 0 in every `A_j`, so the retargeted avatar's eyes never turn and
@@ -39,6 +49,7 @@
 //! reports how far.
 
 use super::model::Avatar;
+use super::own_shapes::{MaskOnSkin, face_part_triangles};
 use super::registration::FaceRegistration;
 use super::target_names::{TargetName, parse_target_name};
 use crate::arkit::{BLENDSHAPE_COUNT, Blendshape, Blendshapes};
@@ -238,15 +249,26 @@ pub fn retarget(
     let targets = avatar_blendshapes(avatar);
     let face = &registration.map.face;
     let rows = 3 * face.len();
-    // G: each target's displacement at the face vertices; targets that do
-    // not move the face get a zero column (and weight 0).
+    // G: each target's displacement seen through the mask as the person's
+    // shapes are, `M S(B̃_i)`; targets that do not move the face get a
+    // zero column (and weight 0).
+    let positions: Vec<DVec3> = avatar.positions().iter().map(|p| p.as_dvec3()).collect();
+    let on_skin = MaskOnSkin::new(
+        registration,
+        &positions,
+        &face_part_triangles(avatar, registration),
+    );
     let mut g = Mat::<f64>::zeros(rows, targets.len());
     for (i, blendshape) in targets.iter().enumerate() {
-        let d = avatar.summed_displacement(&blendshape.targets);
-        for (r, f) in face.iter().enumerate() {
-            let v = d.get(f.vertex as usize).copied().unwrap_or(Vec3::ZERO);
+        let d: Vec<DVec3> = avatar
+            .summed_displacement(&blendshape.targets)
+            .iter()
+            .map(|d| d.as_dvec3())
+            .collect();
+        let seen = registration.map.apply(&on_skin.see(&d));
+        for (r, v) in seen.iter().enumerate() {
             for axis in 0..3 {
-                g[(3 * r + axis, i)] = f64::from(v[axis]);
+                g[(3 * r + axis, i)] = v[axis];
             }
         }
     }

@@ -7,6 +7,26 @@
 //! of the head) follows `A_j`, which is zero where the avatar's own shapes
 //! do not move it.
 //!
+//! **What step 1 carries.** Beyond the paper, step 1 carries the person's
+//! deviation from the automatic retargeting as the mask sees it,
+//! `B_j − S(A_j)` ([`crate::avatar::own_shapes`]), and adds `A_j` itself
+//! at every face vertex:
+//!
+//! ```text
+//! D_j = A_j + T(B_j − S(A_j)),
+//! ```
+//!
+//! with `T` the face step's transfer (linear in the shape). The mask has
+//! about 1,200 vertices; the avatar's face often ten times more, and its
+//! artist's shapes have detail the mask cannot hold (a lip that rolls
+//! in, a crease). `T` alone would smooth that detail to the mask's
+//! triangles for every person, and for a person who moves exactly as the
+//! avatar does it would give back up to 40% of a shape's motion wrong at
+//! single vertices (ICT-FaceKit's `mouthRollUpper`). With `A_j` added the
+//! avatar keeps its own detail wherever the person moves as its rig
+//! does, and the person's own motion, at the mask's resolution, is what
+//! `T` adds.
+//!
 //! | paper | what | file |
 //! |---|---|---|
 //! | §3.3 "deformation transfer to only the avatar's face using the precomputed correspondence mapping" | step 1 | [`face_step`] |
@@ -24,7 +44,7 @@ pub mod rigid_parts;
 pub mod stay_put;
 
 use super::model::Avatar;
-use super::own_shapes::face_part_triangles;
+use super::own_shapes::{MaskOnSkin, face_part_triangles};
 use super::registration::FaceRegistration;
 use super::registration::find_face::arkit_displacement;
 use super::retargeting::{NEGLIGIBLE, RetargetError, Retargeting, mapped_shapes};
@@ -116,17 +136,47 @@ pub fn implant(
     // Step 1.
     let face = FaceStep::new(&positions, &face_part_triangles, &registration.map)?;
     let mapped = mapped_shapes(registration, personalized)?;
-    let deltas: Vec<&[DVec3]> = Blendshape::ALL
+    // The person's deviation from `A_j` as the mask sees it, `B_j − S(A_j)`,
+    // is what step 1 carries; `A_j` itself is added at the avatar's own
+    // resolution (module docs).
+    let on_skin = MaskOnSkin::new(registration, &positions, &face_part_triangles);
+    let s = registration.similarity;
+    let seen: Vec<Vec<DVec3>> = retargeted.iter().map(|a| on_skin.see(a)).collect();
+    let deviation: Vec<Vec<DVec3>> = Blendshape::ALL
         .iter()
-        .map(|b| personalized.delta(*b))
+        .zip(&seen)
+        .map(|(b, seen)| {
+            personalized
+                .delta(*b)
+                .iter()
+                .zip(seen)
+                .map(|(d, a)| *d - s.rotation.transpose() * *a / s.scale)
+                .collect()
+        })
         .collect();
+    let deviation_mapped: Vec<Vec<DVec3>> = mapped
+        .iter()
+        .zip(&seen)
+        .map(|(m, seen)| {
+            m.iter()
+                .zip(registration.map.apply(seen))
+                .map(|(m, a)| *m - a)
+                .collect()
+        })
+        .collect();
+    let deltas: Vec<&[DVec3]> = deviation.iter().map(|d| d.as_slice()).collect();
     let mut on_face = face.transfer(
         personalized.neutral(),
         &deltas,
         mask_triangles,
-        registration.similarity.rotation,
-        &mapped,
+        s.rotation,
+        &deviation_mapped,
     )?;
+    for (shape, a) in on_face.iter_mut().zip(&retargeted) {
+        for (d, &v) in shape.iter_mut().zip(face.vertices()) {
+            *d += a.get(v as usize).copied().unwrap_or(DVec3::ZERO);
+        }
+    }
     // Eyes the person closes, closed on the face patch.
     let closing = ClosingEyes::new(
         &positions,

@@ -11,6 +11,7 @@
 //! | `teeth-gums-one-mesh` | [`teeth_gums`] | upper and lower teeth and gums in one primitive; jawOpen moves its lower half rigidly |
 //! | `one-mesh-face` | [`one_mesh_face`] | one mesh: skin, eyes, teeth, gums and tongue its primitives |
 //! | `full-body` | [`full_body`] ([`body`], [`accessories`]) | skinned body, non-identity bind pose, hair, glasses and clothes without targets, visemes besides the 52 ARKit targets; 10 meshes |
+//! | `lined-sockets` | [`lined_sockets`] | the lids fold into the eye sockets: the socket lining is stitched to the eye openings in the skin's primitive, so the openings are no boundary loops |
 //! | `cm-z-up` | [`cm_z_up`] | centimetres, +Z up, rotation, scale and translation on parent nodes |
 //! | `other-proportions` | [`proportions`] | face 12% wider, eyes closer than that, nose 15% longer, mouth 12% narrower |
 //! | `meshopt` | [`crate::compressed_glb`] | `other-proportions` with `EXT_meshopt_compression` and `KHR_mesh_quantization` required |
@@ -26,6 +27,7 @@ pub mod bone_eyes;
 pub mod cm_z_up;
 pub mod full_body;
 pub mod glb_edit;
+pub mod lined_sockets;
 pub mod low_poly;
 pub mod one_mesh_face;
 pub mod parts;
@@ -94,6 +96,11 @@ pub fn avatar_variants() -> Vec<AvatarVariant> {
             "full-body",
             "A skinned full body with hair, glasses and clothes without targets, and visemes.",
             full_body::full_body(),
+        ),
+        variant(
+            "lined-sockets",
+            "Lids that fold into the eye sockets, as in scanned and sculpted heads: the eye openings are no holes in the mesh.",
+            lined_sockets::lined_sockets(),
         ),
         variant(
             "cm-z-up",

@@ -315,6 +315,9 @@ pub const ROUNDS: usize = 3;
 /// in it (module docs).
 pub struct ClosingEyes {
     per_shape: Vec<Vec<EyeOpening>>,
+    /// The mask's eye holes (indices into [`mask_eye_holes`]) whose
+    /// opening was found on the avatar.
+    found: Vec<usize>,
 }
 
 impl ClosingEyes {
@@ -332,6 +335,7 @@ impl ClosingEyes {
     ) -> ClosingEyes {
         let none = ClosingEyes {
             per_shape: vec![Vec::new(); Blendshape::ALL.len()],
+            found: Vec::new(),
         };
         let Ok(mask) = Topology::new(personalized.vertex_count(), mask_triangles.to_vec()) else {
             return none;
@@ -362,7 +366,14 @@ impl ClosingEyes {
                     .collect()
             })
             .collect();
-        ClosingEyes { per_shape }
+        let found = openings.iter().map(|(h, _)| *h).collect();
+        ClosingEyes { per_shape, found }
+    }
+
+    /// The mask's eye holes (indices into [`mask_eye_holes`]) whose opening
+    /// was found on the avatar: their lids are closed by contacts.
+    pub fn found(&self) -> &[usize] {
+        &self.found
     }
 
     /// (Shape, eye) pairs that close.

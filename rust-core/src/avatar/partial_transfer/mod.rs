@@ -32,11 +32,13 @@
 //! | §3.3 "deformation transfer to only the avatar's face using the precomputed correspondence mapping" | step 1 | [`face_step`] |
 //! | §3.3 "the vertices in the adjacent area … are non-rigidly deformed from `A_j`" | step 2 | [`adjacent_step`] |
 //! | (beyond the paper) closed eyes stay closed: the lid margins `M` leaves out made to meet | [`lid_contacts`], [`adjacent_step::AdjacentStep::close`] |
+//! | (beyond the paper) a closed eye whose opening the contacts cannot find (lids folding into the sockets) closes the avatar's way: its own blink on the lids where the person's eye closes | [`closed_lids`] |
 //! | (beyond the paper) what neither the person nor the avatar's rig moves stays put | [`stay_put`] |
 //! | §3.3 "eye balls and teeth … to their desired position" | rigid pieces (connected components any own target moves rigidly, in any mesh) kept rigid | [`rigid_parts`] |
 //! | §3.3 "moving the eyelid vertices to their closest point on the eyeball surface \[2\]" | no lid inside an eyeball (eyeballs found by their shape, [`crate::avatar::registration::eyeballs`]) | [`eyelid_repair`] |
 
 pub mod adjacent_step;
+pub mod closed_lids;
 pub mod eyelid_repair;
 pub mod face_step;
 pub mod lid_contacts;
@@ -50,6 +52,7 @@ use super::registration::find_face::arkit_displacement;
 use super::retargeting::{NEGLIGIBLE, RetargetError, Retargeting, mapped_shapes};
 use crate::arkit::{Blendshape, Blendshapes};
 use adjacent_step::AdjacentStep;
+use closed_lids::ClosedLids;
 use eyelid_repair::{Eyeball, LID_OFFSET_MM, NEAR_MM, repair_eyelids};
 use face_step::{FaceStep, FaceStepError};
 use glam::{DVec3, Vec3};
@@ -97,6 +100,9 @@ pub struct Implanted {
     /// Eyes closed on the avatar because the person's closed (shape, eye
     /// pairs; [`lid_contacts`]).
     pub lids_closed: usize,
+    /// Eyes given the avatar's own closed lid because the person's closed
+    /// (shape, eye pairs; [`closed_lids`]).
+    pub own_lids: usize,
     /// The parts found wholly rigid (every avatar target moves each of
     /// their pieces rigidly).
     pub rigid_parts: Vec<usize>,
@@ -246,6 +252,20 @@ pub fn implant(
     if !closing.close_all(&mut full, full_at, full_close) {
         return Err(ImplantError::Adjacent);
     }
+    // A closed eye whose opening the contacts cannot find closes the
+    // avatar's way.
+    let closed_lids = ClosedLids::new(
+        &own_shapes,
+        (
+            &positions,
+            &in_face_parts,
+            registration.similarity.scale / 1000.0,
+        ),
+        &on_skin,
+        personalized,
+        (mask_triangles, closing.found()),
+    );
+    closed_lids.apply(&mut full);
     // What neither the person, the avatar's own target nor `A_j` moves
     // stays put.
     let to_avatar = registration.similarity.scale / 1000.0;
@@ -350,6 +370,7 @@ pub fn implant(
         still_faded: faded,
         lids_repaired,
         lids_closed: closing.count(),
+        own_lids: closed_lids.count(),
         rigid_parts: rigid_parts::wholly_rigid_parts(avatar, &pieces),
         rigid_pieces: pieces,
         rigid_deviation_removed,

@@ -10,8 +10,9 @@ use likeness::Session;
 use likeness::avatar::glb::{
     GlbAvatar, NewGlbOptions, new_avatar_glb, read_avatar, read_avatar_bytes,
 };
+use likeness::avatar::person_face::take_face;
 use likeness::avatar::personal_avatar::{
-    AvatarShapes, AvatarStep, PersonInput, PersonalAvatar, mask_glb, personal_avatar,
+    AvatarShapes, AvatarStep, PersonInput, PersonalAvatar, RestFace, mask_glb, personal_avatar,
     retarget_map_json,
 };
 use likeness::avatar::registration::cache;
@@ -38,6 +39,9 @@ pub struct AvatarArgs {
     pub cache_dir: Option<PathBuf>,
     /// Write the automatic retargeting `A_j` instead of the person's shapes.
     pub retargeted: bool,
+    /// Whose face the avatar gets at rest, if asked (`--keep-face`,
+    /// `--take-face`); [`RestFace::chosen`] decides otherwise.
+    pub face: Option<RestFace>,
     /// Write the personalized face mask alone.
     pub mask_only: bool,
     /// Where to write the contact sheet, if asked.
@@ -59,6 +63,16 @@ struct Summary {
     arkit_found: usize,
     arkit_missing: Vec<&'static str>,
     face_vertices: usize,
+    /// Whose face the avatar has at rest: "person" (the scanned neutral
+    /// taken) or "stock".
+    rest_face: &'static str,
+    /// With the person's face: how far the new rest passes from the scanned
+    /// neutral at the mask's vertices, mean and largest (mm), and the
+    /// largest change of the rest (mm).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    face_fit_mm: Option<[f64; 2]>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    face_largest_change_mm: Option<f64>,
     registration_residual_mean_mm: f64,
     registration_residual_max_mm: f64,
     registration_cached: bool,
@@ -98,6 +112,7 @@ struct Timings {
     personalize: f64,
     read_avatar: f64,
     registration: f64,
+    take_face: f64,
     retargeting: f64,
     implant: f64,
     write: f64,
@@ -124,10 +139,23 @@ pub fn default_glb() -> Result<GlbAvatar, Box<dyn std::error::Error>> {
 /// Where `likeness demo` writes the person's avatar: in the current folder.
 pub const DEMO_AVATAR: &str = "likeness-demo-avatar.glb";
 
+/// Where `likeness demo` writes its preview of the faces: the default
+/// avatar's stock face, the person's and another person's, side by side.
+pub const DEMO_FACES: &str = "likeness-demo-faces.png";
+
 /// The avatar step of `likeness demo`: the session's personalized shapes
-/// (`method`) implanted into the default avatar, summarized, and written
-/// to [`DEMO_AVATAR`] in the current folder.
-pub fn demo_avatar(session: &Session, method: Method) -> CliResult {
+/// (`method`) implanted into the default avatar wearing the person's face,
+/// summarized, and written to [`DEMO_AVATAR`] in the current folder; then
+/// the preview [`DEMO_FACES`]: the default avatar's stock face, the
+/// person's (`name`) and `other`'s (a second person, `other_name`) side by
+/// side, each taken from their own neutral scan.
+pub fn demo_avatar(
+    session: &Session,
+    name: &str,
+    other: &Session,
+    other_name: &str,
+    method: Method,
+) -> CliResult {
     let started = Instant::now();
     let personalized = personalize(session, method)?;
     let glb = default_glb()?;
@@ -137,9 +165,14 @@ pub fn demo_avatar(session: &Session, method: Method) -> CliResult {
         rig: &rig,
         personalized: &personalized.shapes,
     };
-    let made = personal_avatar(&glb, &person, None, AvatarShapes::Personalized, &mut |_| {
-        true
-    })?;
+    let made = personal_avatar(
+        &glb,
+        &person,
+        None,
+        AvatarShapes::Personalized,
+        RestFace::Person,
+        &mut |_| true,
+    )?;
     let (registration, implanted) = (&made.registration, &made.implanted);
     println!(
         "Default avatar: {} vertices in {} meshes; face found on {} of them, registration residual mean {:.3} mm, max {:.3} mm ({:.2} s)",
@@ -165,6 +198,28 @@ pub fn demo_avatar(session: &Session, method: Method) -> CliResult {
         "Wrote {} ({:.1} MB): open it in Blender (File → Import → glTF) and try its 52 shape keys.",
         absolute.display(),
         made.glb.len() as f64 / 1e6
+    );
+    let other_neutral = personalize(other, method)?.shapes;
+    let other_face = take_face(&glb.avatar, registration, other_neutral.neutral())?;
+    let mouth_parts: Vec<usize> = implanted.as_ref().map_or(Vec::new(), |i| {
+        i.rigid_parts
+            .iter()
+            .copied()
+            .filter(|p| !registration.eyeball_parts.contains(p))
+            .collect()
+    });
+    let faces = [
+        ("stock face", &glb.avatar),
+        (name, made.shaped(&glb.avatar)),
+        (other_name, &other_face.avatar),
+    ];
+    let out = Path::new(DEMO_FACES);
+    let (w, h) =
+        crate::avatar_preview::write_faces(&glb.avatar, registration, &mouth_parts, &faces, out)
+            .map_err(|e| format!("{}: {e}", out.display()))?;
+    println!(
+        "Wrote {} ({w} × {h}): the default avatar's stock face, then {name}'s and {other_name}'s, each from their own neutral scan, from the front and the side.",
+        out.display()
     );
     Ok(())
 }
@@ -220,26 +275,43 @@ pub fn avatar_command(args: &AvatarArgs) -> CliResult {
         crate::avatar_preview::check_dir(dir)?;
     }
     let steps = crate::progress::bar("avatar", 5);
-    let clock = Instant::now();
-    let session = read_session(&args.session)?;
-    t.read_session = clock.elapsed().as_secs_f64();
-    steps.inc(1);
-
-    let clock = Instant::now();
-    let personalized = personalize(&session, args.method)?;
-    t.personalize = clock.elapsed().as_secs_f64();
-    steps.inc(1);
-    if args.mask_only {
+    // The avatar is read (or the default one built) on its own thread
+    // while the session is read and personalized: neither needs the other.
+    let read = || -> Result<(GlbAvatar, f64), String> {
+        let clock = Instant::now();
+        let glb = match &args.avatar {
+            Some(path) => read_avatar(path).map_err(|e| e.to_string())?,
+            None => default_glb().map_err(|e| e.to_string())?,
+        };
+        Ok((glb, clock.elapsed().as_secs_f64()))
+    };
+    let (session, personalized, glb) =
+        std::thread::scope(|scope| -> Result<_, Box<dyn std::error::Error>> {
+            let reading = (!args.mask_only).then(|| scope.spawn(read));
+            let clock = Instant::now();
+            let session = read_session(&args.session)?;
+            t.read_session = clock.elapsed().as_secs_f64();
+            steps.inc(1);
+            let clock = Instant::now();
+            let personalized = personalize(&session, args.method)?;
+            t.personalize = clock.elapsed().as_secs_f64();
+            steps.inc(1);
+            let glb = match reading {
+                Some(reading) => {
+                    let (glb, seconds) = reading
+                        .join()
+                        .unwrap_or_else(|e| std::panic::resume_unwind(e))?;
+                    t.read_avatar = seconds;
+                    Some(glb)
+                }
+                None => None,
+            };
+            Ok((session, personalized, glb))
+        })?;
+    let Some(glb) = glb else {
         steps.finish_and_clear();
         return write_mask(&session, &personalized.shapes, &args.out);
-    }
-
-    let clock = Instant::now();
-    let glb = match &args.avatar {
-        Some(path) => read_avatar(path)?,
-        None => default_glb()?,
     };
-    t.read_avatar = clock.elapsed().as_secs_f64();
     steps.inc(1);
 
     let clock = Instant::now();
@@ -264,7 +336,8 @@ pub fn avatar_command(args: &AvatarArgs) -> CliResult {
         marks.push((step, Instant::now()));
         true
     };
-    let made = personal_avatar(&glb, &person, cached, shapes, &mut progress)?;
+    let face = RestFace::chosen(args.avatar.is_none(), args.face);
+    let made = personal_avatar(&glb, &person, cached, shapes, face, &mut progress)?;
     let ended = Instant::now();
     let step_seconds = |step: AvatarStep| {
         marks.iter().position(|m| m.0 == step).map_or(0.0, |i| {
@@ -273,6 +346,7 @@ pub fn avatar_command(args: &AvatarArgs) -> CliResult {
         })
     };
     t.registration = step_seconds(AvatarStep::FindingFace);
+    t.take_face = step_seconds(AvatarStep::TakingFace);
     t.retargeting = step_seconds(AvatarStep::Retargeting);
     t.implant = step_seconds(AvatarStep::Implanting);
     if !was_cached && let Err(e) = cache::store(&dir, &key, &made.registration) {
@@ -333,6 +407,16 @@ pub fn avatar_command(args: &AvatarArgs) -> CliResult {
         arkit_found: made.found.found(),
         arkit_missing: made.found.missing().iter().map(|b| b.name()).collect(),
         face_vertices: registration.map.face.len(),
+        rest_face: if made.taken_face.is_some() {
+            "person"
+        } else {
+            "stock"
+        },
+        face_fit_mm: made
+            .taken_face
+            .as_ref()
+            .map(|t| [t.fit_mean_mm, t.fit_max_mm]),
+        face_largest_change_mm: made.taken_face.as_ref().map(|t| t.largest_mm),
         registration_residual_mean_mm: registration.residual_mean_mm,
         registration_residual_max_mm: registration.residual_max_mm,
         registration_cached: was_cached,
@@ -371,6 +455,7 @@ fn write_preview(
     dir: &Path,
 ) -> Result<crate::avatar_preview::Preview, Box<dyn std::error::Error>> {
     let retargeted_shapes;
+    let avatar = made.shaped(&glb.avatar);
     let (written, mouth_parts): (&[Vec<glam::Vec3>], Vec<usize>) = match &made.implanted {
         Some(implanted) => (
             &implanted.shapes,
@@ -382,14 +467,14 @@ fn write_preview(
                 .collect(),
         ),
         None => {
-            retargeted_shapes = made.retargeting.displacements(&glb.avatar);
+            retargeted_shapes = made.retargeting.displacements(avatar);
             (&retargeted_shapes, Vec::new())
         }
     };
     let input = PreviewInput {
-        avatar: &glb.avatar,
+        avatar,
         avatar_name,
-        registration: &made.registration,
+        registration: made.shaped_registration(),
         found: &made.found,
         written,
         written_name: if retargeted {
@@ -445,6 +530,13 @@ fn print_summary(s: &Summary) {
         s.out_bytes as f64 / 1e6,
         s.shapes
     );
+    match s.face_fit_mm {
+        Some([mean, max]) => println!(
+            "Rest face: the person's scanned face, within {mean:.3} mm (mean), {max:.3} mm (largest) at the mask's vertices; the rest moved by up to {:.1} mm",
+            s.face_largest_change_mm.unwrap_or(0.0)
+        ),
+        None => println!("Rest face: the avatar's own"),
+    }
     if s.implant_face_vertices > 0 {
         println!(
             "Implanted: {} face vertices (step 1), {} next to them (step 2), {} lid vertices put back out of an eyeball",
@@ -467,12 +559,13 @@ fn print_summary(s: &Summary) {
     }
     let t = &s.seconds;
     println!(
-        "Time: session {:.2} s, personalize ({}) {:.2} s, avatar {:.2} s, registration {:.2} s, retargeting {:.3} s, implant {:.2} s, write {:.2} s",
+        "Time: session {:.2} s, personalize ({}) {:.2} s, avatar {:.2} s, registration {:.2} s, face {:.2} s, retargeting {:.3} s, implant {:.2} s, write {:.2} s",
         t.read_session,
         s.method,
         t.personalize,
         t.read_avatar,
         t.registration,
+        t.take_face,
         t.retargeting,
         t.implant,
         t.write

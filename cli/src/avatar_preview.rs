@@ -11,11 +11,13 @@
 //! | the poses, the views, one tile drawn (the report's rasterizer, depth-darkened) | [`tiles`] |
 //! | the grid of tiles as one picture, labelled | [`sheet`], [`font`] |
 //! | what each cell is: `contact-sheet.txt`, `index.html` | [`legend`] |
+//! | `likeness demo`'s faces side by side at rest | [`faces`] |
 //!
 //! The folder gets `contact-sheet.png`, `contact-sheet.txt`, `index.html`
 //! and `tiles/POSE-SET-VIEW.png`, each file written atomically (a
 //! temporary file renamed into place); other files in it are left alone.
 
+mod faces;
 mod font;
 mod framing;
 mod legend;
@@ -96,6 +98,42 @@ type Tile = (Image, Vec<u8>);
 /// lacks the shape (the avatar has no target for it).
 type Pose = Option<Option<Vec<DVec3>>>;
 
+/// `avatar` at rest wearing each face of `faces` (a label and the avatar
+/// with that rest, as [`likeness::avatar::personal_avatar::PersonalAvatar::shaped`]
+/// gives it), side by side from the front and the side
+/// ([`faces::faces_picture`]), written to `out` as PNG; `registration` is
+/// the face found on the stock avatar (its similarity frames every face
+/// alike), `mouth_parts` the teeth, gums and tongue (indices into
+/// `avatar.parts`). Returns the picture's size.
+pub fn write_faces(
+    avatar: &Avatar,
+    registration: &FaceRegistration,
+    mouth_parts: &[usize],
+    faces: &[(&str, &Avatar)],
+    out: &Path,
+) -> Result<(u32, u32), Box<dyn std::error::Error>> {
+    let ranges = |parts: &[usize]| part_ranges(avatar, parts);
+    let face: Vec<u32> = registration.map.face.iter().map(|f| f.vertex).collect();
+    let triangles = avatar.triangles();
+    let (eyeballs, mouth_parts) = (ranges(&registration.eyeball_parts), ranges(mouth_parts));
+    let meshes = faces::Meshes {
+        triangles: &triangles,
+        eyeballs: &eyeballs,
+        mouth_parts: &mouth_parts,
+        face: &face,
+    };
+    let columns: Vec<faces::Face<'_>> = faces
+        .iter()
+        .map(|(label, worn)| faces::Face {
+            label,
+            rest: points_in_mask_frame(registration, &worn.positions()),
+        })
+        .collect();
+    let picture = faces::faces_picture(&columns, &meshes);
+    write_atomically(out, &picture.png_compressed(COMPRESSION)?)?;
+    Ok((picture.width, picture.height))
+}
+
 /// Draws the preview of `input` and writes it into `dir` (module docs).
 pub fn write_preview(
     input: &PreviewInput<'_>,
@@ -105,13 +143,7 @@ pub fn write_preview(
     check_dir(dir)?;
     let avatar = input.avatar;
     let registration = input.registration;
-    let offsets = avatar.vertex_offsets();
-    let ranges = |parts: &[usize]| -> Vec<std::ops::Range<usize>> {
-        parts
-            .iter()
-            .filter_map(|&p| Some(*offsets.get(p)?..*offsets.get(p + 1)?))
-            .collect()
-    };
+    let ranges = |parts: &[usize]| part_ranges(avatar, parts);
     let eyeballs = ranges(&registration.eyeball_parts);
     let mouth_parts = ranges(input.mouth_parts);
     let face: Vec<u32> = registration.map.face.iter().map(|f| f.vertex).collect();
@@ -292,6 +324,16 @@ fn write_files(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<(), String> {
         write_atomically(&path, bytes).map_err(|e| format!("{}: {e}", path.display()))?;
     }
     Ok(())
+}
+
+/// The vertex ranges of `parts` (indices into `avatar.parts`; unknown
+/// ones left out).
+fn part_ranges(avatar: &Avatar, parts: &[usize]) -> Vec<std::ops::Range<usize>> {
+    let offsets = avatar.vertex_offsets();
+    parts
+        .iter()
+        .filter_map(|&p| Some(*offsets.get(p)?..*offsets.get(p + 1)?))
+        .collect()
 }
 
 /// Each field as a slice.

@@ -123,6 +123,14 @@ enum Command {
         /// own blendshapes combined to approximate the person's.
         #[arg(long)]
         retargeted: bool,
+        /// Keep the default avatar's stock face (by default it takes the
+        /// person's scanned face at rest).
+        #[arg(long, conflicts_with_all = ["take_face", "mask_only"])]
+        keep_face: bool,
+        /// Give the avatar the person's scanned face at rest (the default
+        /// on the default avatar; on one you bring, only when asked).
+        #[arg(long, conflicts_with = "mask_only")]
+        take_face: bool,
         /// Write the person's personalized face mask alone (ARKit's mesh,
         /// their neutral and 52 shapes) instead of an avatar.
         #[arg(long, conflicts_with_all = ["avatar", "retargeted", "retarget_map", "preview"])]
@@ -208,6 +216,8 @@ fn main() -> ExitCode {
             retarget_map,
             cache_dir,
             retargeted,
+            keep_face,
+            take_face,
             mask_only,
             preview,
             json,
@@ -219,6 +229,11 @@ fn main() -> ExitCode {
             retarget_map,
             cache_dir,
             retargeted,
+            face: match (keep_face, take_face) {
+                (true, _) => Some(likeness::avatar::personal_avatar::RestFace::Stock),
+                (_, true) => Some(likeness::avatar::personal_avatar::RestFace::Person),
+                _ => None,
+            },
             mask_only,
             preview,
             json,

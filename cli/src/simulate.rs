@@ -85,6 +85,16 @@ pub fn demo(seed: Option<u64>) -> CliResult {
     let report = crate::personalize::evaluation_report(&[source], &|_| Ok(session.clone()))?;
     crate::personalize::print_table(&report);
     println!("\nThe avatar (§3.3):\n");
-    crate::avatar::demo_avatar(&session, likeness::personalize::Method::DEFAULT)?;
+    // A second person, for the preview of two people's faces.
+    let other_seed = seed.map_or(2, |s| s.wrapping_add(1));
+    let other = simulate_with_bar(other_seed, SimulationOptions::default());
+    let name = format!("subject {}", seed.unwrap_or(1));
+    crate::avatar::demo_avatar(
+        &session,
+        &name,
+        &other,
+        &format!("subject {other_seed}"),
+        likeness::personalize::Method::DEFAULT,
+    )?;
     Ok(())
 }

@@ -64,6 +64,9 @@ fn a_session_onto_a_user_avatar_gives_a_glb_a_map_and_a_summary() {
         text(&first.stderr)
     );
     assert_eq!(v["registration_cached"], false);
+    // An avatar the user brings keeps its own face unless asked.
+    assert_eq!(v["rest_face"], "stock", "{v}");
+    assert_eq!(v["face_fit_mm"], serde_json::Value::Null, "{v}");
     assert!(v["face_vertices"].as_u64().unwrap() > 5000, "{v}");
     assert!(
         v["registration_residual_mean_mm"].as_f64().unwrap() < 0.1,
@@ -117,6 +120,67 @@ fn a_session_onto_a_user_avatar_gives_a_glb_a_map_and_a_summary() {
         "{v}"
     );
     assert_eq!(v["implant_face_vertices"], 0);
+
+    // --take-face gives it the person's face all the same.
+    let mut taking = args.to_vec();
+    taking.push("--take-face");
+    let third = likeness(&taking);
+    assert!(third.status.success(), "{}", text(&third.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&third.stdout).unwrap();
+    assert_eq!(v["rest_face"], "person", "{v}");
+    assert!(v["face_fit_mm"][1].as_f64().unwrap() < 0.2, "{v}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn the_default_avatar_takes_the_persons_face_unless_told_to_keep_its_own() {
+    let dir = scratch("face");
+    let session = likeness_tests::committed::path(3);
+    let run = |extra: &[&str], out: &Path| -> serde_json::Value {
+        let mut args = vec!["avatar", &s(&session), "--out", &s(out), "--json"]
+            .into_iter()
+            .map(String::from)
+            .collect::<Vec<_>>();
+        args.extend(extra.iter().map(|a| a.to_string()));
+        args.extend(["--cache-dir".to_string(), s(&dir.join("cache"))]);
+        let refs: Vec<&str> = args.iter().map(String::as_str).collect();
+        let out = likeness(&refs);
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        serde_json::from_slice(&out.stdout).expect("JSON")
+    };
+    let (own, kept) = (dir.join("own.glb"), dir.join("kept.glb"));
+    let v = run(&[], &own);
+    assert_eq!(v["rest_face"], "person", "{v}");
+    // Within 0.2 mm of the scanned neutral at the mask's vertices.
+    assert!(v["face_fit_mm"][1].as_f64().unwrap() < 0.2, "{v}");
+    // A real face differs from the stock one by millimetres.
+    assert!(v["face_largest_change_mm"].as_f64().unwrap() > 2.0, "{v}");
+    let v = run(&["--keep-face"], &kept);
+    assert_eq!(v["rest_face"], "stock", "{v}");
+    let (own, kept) = (
+        read_avatar(&own).expect("reads"),
+        read_avatar(&kept).expect("reads"),
+    );
+    let moved = own
+        .avatar
+        .positions()
+        .iter()
+        .zip(kept.avatar.positions())
+        .map(|(a, b)| a.distance(b))
+        .fold(0.0f32, f32::max);
+    assert!(moved > 0.002, "the rests differ by {moved} m at most");
+    let clash = likeness(&[
+        "avatar",
+        &s(&session),
+        "--keep-face",
+        "--take-face",
+        "--out",
+        &s(&dir.join("x.glb")),
+    ]);
+    assert!(
+        !clash.status.success(),
+        "--keep-face and --take-face together"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -169,6 +233,17 @@ fn the_demo_ends_with_the_persons_avatar_in_the_current_folder() {
     assert!(stdout.contains("likeness-demo-avatar.glb"), "{stdout}");
     let written = read_avatar(&glb).expect("the demo's avatar reads");
     assert_eq!(check_avatar(&written).expect("an avatar").found(), 52);
+    // The preview of the faces: the stock one and two people's, side by side.
+    assert!(stdout.contains("likeness-demo-faces.png"), "{stdout}");
+    assert!(stdout.contains("subject 1's and subject 2's"), "{stdout}");
+    let png = std::fs::read(dir.join("likeness-demo-faces.png")).expect("the faces");
+    assert_eq!(&png[1..4], b"PNG");
+    let width = u32::from_be_bytes([png[16], png[17], png[18], png[19]]);
+    let height = u32::from_be_bytes([png[20], png[21], png[22], png[23]]);
+    assert!(
+        width > height,
+        "three faces side by side: {width} × {height}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 

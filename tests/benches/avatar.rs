@@ -7,7 +7,8 @@
 use criterion::{Criterion, criterion_group, criterion_main};
 use likeness::Blendshapes;
 use likeness::avatar::glb::{NewGlbOptions, new_avatar_glb, read_avatar_bytes};
-use likeness::avatar::personal_avatar::{AvatarShapes, PersonInput, personal_avatar};
+use likeness::avatar::person_face::take_face;
+use likeness::avatar::personal_avatar::{AvatarShapes, PersonInput, RestFace, personal_avatar};
 use likeness::avatar::registration::find_face;
 use likeness::avatar::retargeting::retarget;
 use likeness_sim::default_avatar::default_avatar;
@@ -57,21 +58,33 @@ fn avatar(c: &mut Criterion) {
         rig: &template,
         personalized: &person,
     };
-    group.bench_function(
-        "after personalization: Eq. (4), implant, GLB (52 shapes)",
-        |b| {
+    group.bench_function("take_face: the person's neutral as the rest", |b| {
+        b.iter(|| take_face(black_box(&glb.avatar), &found, person.neutral()).expect("a face"))
+    });
+    for (label, face) in [
+        (
+            "after personalization: Eq. (4), implant, GLB (52 shapes)",
+            RestFace::Stock,
+        ),
+        (
+            "after personalization, the person's face taken: take_face, Eq. (4), implant, GLB",
+            RestFace::Person,
+        ),
+    ] {
+        group.bench_function(label, |b| {
             b.iter(|| {
                 personal_avatar(
                     black_box(&glb),
                     &input,
                     Some(found.clone()),
                     AvatarShapes::Personalized,
+                    face,
                     &mut |_| true,
                 )
                 .expect("an avatar")
             })
-        },
-    );
+        });
+    }
     group.finish();
 }
 

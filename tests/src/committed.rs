@@ -4,7 +4,7 @@
 use likeness::Session;
 use likeness::avatar::glb::GlbAvatar;
 use likeness::avatar::personal_avatar::{
-    AvatarError, AvatarShapes, PersonInput, PersonalAvatar, personal_avatar,
+    AvatarError, AvatarShapes, PersonInput, PersonalAvatar, RestFace, personal_avatar,
 };
 use likeness::personalize::{Method, personalize};
 use likeness::session::file::{self as session_file, SessionFileError};
@@ -28,6 +28,15 @@ pub fn read(seed: u64) -> Result<Session, SessionFileError> {
 /// implanted into `glb`, as `likeness avatar` does it; the avatar stage's
 /// error if it refuses.
 pub fn personal_avatar_of(seed: u64, glb: &GlbAvatar) -> Result<PersonalAvatar, AvatarError> {
+    personal_avatar_with(seed, glb, RestFace::Stock)
+}
+
+/// [`personal_avatar_of`] with the rest face `face`.
+pub fn personal_avatar_with(
+    seed: u64,
+    glb: &GlbAvatar,
+    face: RestFace,
+) -> Result<PersonalAvatar, AvatarError> {
     let session = read(seed).expect("a committed session reads");
     let person = personalize(&session, Method::DEFAULT)
         .expect("a committed session personalizes")
@@ -38,13 +47,27 @@ pub fn personal_avatar_of(seed: u64, glb: &GlbAvatar) -> Result<PersonalAvatar, 
         rig: &rig,
         personalized: &person,
     };
-    personal_avatar(glb, &input, None, AvatarShapes::Personalized, &mut |_| true)
+    personal_avatar(
+        glb,
+        &input,
+        None,
+        AvatarShapes::Personalized,
+        face,
+        &mut |_| true,
+    )
 }
 
 /// The round trip of issue 21 on `glb`: the avatar's own shapes, seen
 /// through the face found on it for the committed subject 1's mask, given
 /// as the person.
 pub fn round_trip_of(glb: &GlbAvatar) -> Result<PersonalAvatar, AvatarError> {
+    round_trip_with(glb, RestFace::Stock)
+}
+
+/// [`round_trip_of`] with the rest face `face`: with
+/// [`RestFace::Person`] the avatar takes its own face (the registered
+/// mask), which must change nothing.
+pub fn round_trip_with(glb: &GlbAvatar, face: RestFace) -> Result<PersonalAvatar, AvatarError> {
     let session = read(1).expect("a committed session reads");
     let rig = session.template.blendshapes().expect("a checked template");
     let found = likeness::avatar::registration::find_face(&glb.avatar, &session.topology, &rig)
@@ -64,6 +87,7 @@ pub fn round_trip_of(glb: &GlbAvatar) -> Result<PersonalAvatar, AvatarError> {
         &input,
         Some(found),
         AvatarShapes::Personalized,
+        face,
         &mut |_| true,
     )
 }

@@ -6,5 +6,7 @@
 
 pub mod avatar_quality;
 pub mod committed;
+pub mod face_checks;
 pub mod live_link;
+pub mod seam;
 pub mod shared_avatars;

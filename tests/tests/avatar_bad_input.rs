@@ -9,7 +9,7 @@ use likeness::avatar::glb::{
     GlbAvatar, NewGlbOptions, check_avatar, new_avatar_glb, read_avatar_bytes,
 };
 use likeness::avatar::personal_avatar::{
-    AvatarError, AvatarShapes, AvatarStep, AvatarWarning, PersonInput, personal_avatar,
+    AvatarError, AvatarShapes, AvatarStep, AvatarWarning, PersonInput, RestFace, personal_avatar,
 };
 use likeness::{Blendshape, Blendshapes};
 use likeness_sim::default_avatar::default_avatar;
@@ -31,9 +31,14 @@ fn run(glb: &GlbAvatar) -> Result<likeness::avatar::personal_avatar::PersonalAva
         rig: &rig,
         personalized: &rig,
     };
-    personal_avatar(glb, &person, None, AvatarShapes::Personalized, &mut |_| {
-        true
-    })
+    personal_avatar(
+        glb,
+        &person,
+        None,
+        AvatarShapes::Personalized,
+        RestFace::Stock,
+        &mut |_| true,
+    )
 }
 
 /// The default avatar with only its head mesh: no eyeballs, teeth, gums
@@ -133,10 +138,17 @@ fn cancelling_stops_before_the_step_asked() {
         personalized: &rig,
     };
     let mut seen = Vec::new();
-    let err = personal_avatar(&glb, &person, None, AvatarShapes::Personalized, &mut |s| {
-        seen.push(s);
-        s != AvatarStep::Implanting
-    })
+    let err = personal_avatar(
+        &glb,
+        &person,
+        None,
+        AvatarShapes::Personalized,
+        RestFace::Stock,
+        &mut |s| {
+            seen.push(s);
+            s != AvatarStep::Implanting
+        },
+    )
     .expect_err("cancelled");
     assert!(
         matches!(err, AvatarError::Cancelled(AvatarStep::Implanting)),

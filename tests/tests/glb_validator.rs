@@ -280,6 +280,16 @@ fn written_glbs_pass_the_khronos_validator() {
             if v < 40 { Vec3::Z * 0.002 } else { Vec3::ZERO }
         }),
     );
+    // A new rest too (the person's face taken): positions through the
+    // moved node and the skinned teeth's bind placement, normals turned.
+    let rest = per_part(&|v, x| {
+        x + if v % 5 == 0 {
+            Vec3::new(0.0, 0.001, 0.0005)
+        } else {
+            Vec3::ZERO
+        }
+    });
+    shapes.set_rest(rest.clone());
     let teeth = &moved.avatar.parts[1];
     assert_eq!(
         teeth.positions,
@@ -289,6 +299,11 @@ fn written_glbs_pass_the_khronos_validator() {
     let back = dir.join("back.glb");
     write_avatar(&moved, &shapes, &back).unwrap();
     let reread = read_avatar(&back).unwrap();
+    for (part, want) in reread.avatar.parts.iter().zip(&rest) {
+        for (got, want) in part.positions.iter().zip(want) {
+            assert!((*got - *want).length() < 1e-6, "{got} against {want}");
+        }
+    }
     // Replaced targets lose their normal deltas; the kept one keeps them.
     let targets = &reread.json()["meshes"][0]["primitives"][0]["targets"];
     assert!(targets[0].get("NORMAL").is_none());

@@ -8,7 +8,7 @@ use likeness::Blendshapes;
 use likeness::avatar::avatar_summary::avatar_summary;
 use likeness::avatar::glb::read_avatar_bytes;
 use likeness::avatar::personal_avatar::{
-    AvatarShapes, PersonInput, mask_glb, personal_avatar, retarget_map_json,
+    AvatarShapes, PersonInput, RestFace, mask_glb, personal_avatar, retarget_map_json,
 };
 use likeness::geometry::Topology;
 use likeness::personalize::Personalized;
@@ -22,6 +22,24 @@ const DEFAULT_AVATAR: &str = "default avatar";
 
 /// The name an avatar given as bytes goes by in messages.
 pub(crate) const GIVEN_AVATAR: &str = "avatar.glb";
+
+/// Whose face an avatar has at rest (`RestFace` in the core).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, uniffi::Enum)]
+pub enum RestFaceChoice {
+    /// The avatar's own face.
+    Stock,
+    /// The person's face, from the neutral they scanned.
+    Person,
+}
+
+impl From<RestFaceChoice> for RestFace {
+    fn from(choice: RestFaceChoice) -> RestFace {
+        match choice {
+            RestFaceChoice::Stock => RestFace::Stock,
+            RestFaceChoice::Person => RestFace::Person,
+        }
+    }
+}
 
 /// A session's personalized blendshapes, with what the avatar step needs.
 #[derive(uniffi::Object)]
@@ -89,16 +107,21 @@ impl PersonalizedFace {
 
     /// The person's shapes implanted into `avatar_glb` (a GLB with
     /// ARKit-named morph targets; `None` for the project's default avatar);
-    /// `listener` hears the steps and may cancel.
+    /// `rest_face` says whose face it has at rest (`None`: the person's on
+    /// the default avatar, the avatar's own on one the user brings, as
+    /// `likeness avatar` decides); `listener` hears the steps and may
+    /// cancel.
     pub fn avatar(
         &self,
         avatar_glb: Option<Vec<u8>>,
+        rest_face: Option<RestFaceChoice>,
         listener: Option<Arc<dyn ProgressListener>>,
     ) -> Result<AvatarResult, LikenessError> {
         let listener = listener.as_ref();
         if cancelled(listener) {
             return Err(LikenessError::Cancelled);
         }
+        let face = RestFace::chosen(avatar_glb.is_none(), rest_face.map(RestFace::from));
         let glb = match avatar_glb {
             Some(bytes) => read_avatar_bytes(&bytes, GIVEN_AVATAR)?,
             None => {
@@ -119,6 +142,7 @@ impl PersonalizedFace {
             &person,
             None,
             AvatarShapes::Personalized,
+            face,
             &mut progress,
         )?;
         report(listener, "done", 1.0);
@@ -126,6 +150,11 @@ impl PersonalizedFace {
             retarget_map_json: retarget_map_json(&glb, &made.retargeting),
             summary: avatar_summary(&glb, &made),
             warnings: made.warnings.iter().map(|w| w.to_string()).collect(),
+            rest_face: if made.taken_face.is_some() {
+                RestFaceChoice::Person
+            } else {
+                RestFaceChoice::Stock
+            },
             glb: made.glb,
         })
     }

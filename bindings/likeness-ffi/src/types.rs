@@ -86,6 +86,8 @@ pub struct AvatarResult {
     pub summary: String,
     /// What the avatar lacked (the avatar is made anyway).
     pub warnings: Vec<String>,
+    /// Whose face the avatar has at rest.
+    pub rest_face: crate::personalized::RestFaceChoice,
 }
 
 /// One frame of a recorded stream, as `CaptureSession.push_frame` takes it

@@ -22,7 +22,9 @@ use likeness::avatar::likeness_check::{
     Animation, AnimationShapes, AvatarTestError, animate, likeness_on_avatar, mean_face_errors,
     test_delta,
 };
-use likeness::avatar::personal_avatar::{AvatarShapes, AvatarStep, PersonInput, personal_avatar};
+use likeness::avatar::personal_avatar::{
+    AvatarShapes, AvatarStep, PersonInput, RestFace, personal_avatar,
+};
 use likeness::avatar::registration::FaceRegistration;
 use likeness::personalize::Method;
 use std::fmt::Write;
@@ -57,6 +59,7 @@ pub fn section(
         &person,
         None,
         AvatarShapes::Personalized,
+        RestFace::Stock,
         &mut |step: AvatarStep| {
             status(step.name());
             true

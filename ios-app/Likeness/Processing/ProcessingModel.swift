@@ -54,7 +54,7 @@ final class ProcessingModel {
             do {
                 let face = try saved.handle.personalize(method: nil, listener: reporter)
                 CoreQueue.onMain { [weak self] in self?.advance(to: .buildingAvatar) }
-                let avatar = try face.avatar(avatarGlb: nil, listener: reporter)
+                let avatar = try face.avatar(avatarGlb: nil, restFace: nil, listener: reporter)
                 CoreQueue.onMain { [weak self] in self?.advance(to: .writingFiles) }
                 let files = try ExportFiles.write(avatar, beside: saved)
                 let preview = try AvatarPreview(glb: avatar.glb)

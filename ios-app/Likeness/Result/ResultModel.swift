@@ -14,6 +14,8 @@ final class ResultModel {
     let avatarSummary: String
     /// The core's warnings about the avatar.
     let avatarWarnings: [String]
+    /// Whether the avatar wears the person's own face at rest.
+    let ownFace: Bool
     /// The files to share.
     let files: ExportFiles
     /// The method the core used to personalize.
@@ -35,6 +37,7 @@ final class ResultModel {
         quality = outcome.quality
         avatarSummary = outcome.avatar.summary
         avatarWarnings = outcome.avatar.warnings
+        ownFace = outcome.avatar.restFace == .person
         files = outcome.files
         method = outcome.method
         triangles = outcome.triangles

@@ -59,6 +59,10 @@ struct ResultView: View {
         VStack(alignment: .leading, spacing: 8) {
             Text(model.quality.headline)
                 .font(.headline)
+            Label(
+                model.ownFace ? "Your avatar has your face, from your neutral scan" : "Your avatar keeps its own face",
+                systemImage: model.ownFace ? "person.crop.circle.badge.checkmark" : "person.crop.circle")
+                .font(.subheadline)
             Text(model.avatarSummary)
             ForEach(model.quality.warnings + model.avatarWarnings, id: \.self) { warning in
                 Label(warning, systemImage: "exclamationmark.triangle")

@@ -18,6 +18,9 @@ struct Facts {
     /// Face vertices, adjacent vertices and lid vertices repaired, when
     /// the person's shapes were implanted.
     implanted: Option<(usize, usize, usize)>,
+    /// How closely the rest face follows the person's scanned neutral (mm,
+    /// mean and largest), when the avatar took the person's face.
+    own_face: Option<(f64, f64)>,
     glb_bytes: usize,
 }
 
@@ -36,6 +39,10 @@ pub fn avatar_summary(glb: &GlbAvatar, made: &PersonalAvatar) -> String {
             .implanted
             .as_ref()
             .map(|i| (i.face_vertices, i.adjacent_vertices, i.lids_repaired)),
+        own_face: made
+            .taken_face
+            .as_ref()
+            .map(|t| (t.fit_mean_mm, t.fit_max_mm)),
         glb_bytes: made.glb.len(),
     };
     describe(&facts)
@@ -56,8 +63,14 @@ fn describe(f: &Facts) -> String {
                 .to_string()
         }
     };
+    let face = match f.own_face {
+        Some((mean, max)) => format!(
+            "It has your face at rest, taken from your neutral scan (within {mean:.2} mm on average, {max:.2} mm at most). "
+        ),
+        None => "It keeps its own face at rest. ".to_string(),
+    };
     format!(
-        "{}: {} vertices in {} meshes, {} of ARKit's 52 shapes. Face found on {} vertices (fit within {:.2} mm on average, {:.2} mm at most). {shapes} GLB: {:.1} MB.",
+        "{}: {} vertices in {} meshes, {} of ARKit's 52 shapes. Face found on {} vertices (fit within {:.2} mm on average, {:.2} mm at most). {face}{shapes} GLB: {:.1} MB.",
         f.avatar,
         f.vertices,
         f.meshes,
@@ -84,6 +97,7 @@ mod tests {
             residual_mean_mm: 0.0412,
             residual_max_mm: 0.3,
             implanted: Some((9000, 1200, 0)),
+            own_face: None,
             glb_bytes: 10_631_692,
         };
         let text = describe(&facts);
@@ -91,6 +105,9 @@ mod tests {
         assert!(text.contains("(fit within 0.04 mm on average, 0.30 mm at most)"));
         assert!(text.contains("implanted into 9000 face vertices and blended into 1200 next"));
         assert!(!text.contains("eyelid"));
+        assert!(text.contains("It keeps its own face at rest."));
+        facts.own_face = Some((0.004, 0.0191));
+        assert!(describe(&facts).contains("It has your face at rest, taken from your neutral scan (within 0.00 mm on average, 0.02 mm at most)."));
         assert!(text.ends_with("GLB: 10.6 MB."));
         facts.implanted = Some((9000, 1200, 3));
         assert!(describe(&facts).contains("; 3 eyelid vertices were moved"));

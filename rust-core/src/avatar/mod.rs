@@ -10,6 +10,7 @@
 //! | beyond §3.3 | the avatar's own shapes seen through the registration, `S_j` (the round trip) | [`own_shapes`] |
 //! | §3.3, Eq. (4) | automatic retargeting `A_j`, the 52 × k weight map | [`retargeting`] |
 //! | §3.3, Fig. 3 | seamless partial deformation transfer: the person's shapes implanted | [`partial_transfer`] |
+//! | beyond §3.3 | the person's own face at rest: the scanned neutral through `M`, the head, eyes and teeth following | [`person_face`] |
 //! | §3.3 end to end | the person's avatar as GLB bytes, steps skipped said, progress and cancel | [`personal_avatar`] |
 //! | §4.2, Fig. 7 and 8 | manual, automatic and personalized animation against the person's expression on the face region | [`likeness_check`] |
 //! | | what was made, in a few sentences for the app | [`avatar_summary`] |
@@ -22,6 +23,7 @@ pub mod likeness_check;
 pub mod model;
 pub mod own_shapes;
 pub mod partial_transfer;
+pub mod person_face;
 pub mod personal_avatar;
 pub mod registration;
 pub mod retargeting;

@@ -99,6 +99,15 @@ impl Avatar {
             .collect()
     }
 
+    /// The triangles (indices into [`Avatar::positions`]) all of whose
+    /// corners are among `vertices` (increasing).
+    pub fn triangles_within(&self, vertices: &[u32]) -> Vec<[u32; 3]> {
+        self.triangles()
+            .into_iter()
+            .filter(|t| t.iter().all(|v| vertices.binary_search(v).is_ok()))
+            .collect()
+    }
+
     /// The avatar's morph targets as `(mesh, target)` pairs, in mesh order.
     pub fn target_ids(&self) -> Vec<(usize, usize)> {
         self.meshes

@@ -86,25 +86,7 @@ impl MaskOnSkin {
         positions: &[DVec3],
         face_triangles: &[[u32; 3]],
     ) -> MaskOnSkin {
-        let grid = TriangleGrid::new(positions, face_triangles);
-        // The compatible closest point (normals within 60°, as the
-        // registration pairs them): a mask vertex on the lip's edge takes
-        // the lip's outer skin, not the lining of the mouth behind it,
-        // which the avatar's own mouthRollLower moves quite differently.
-        let normals = vertex_normals(
-            &registration.mask_on_avatar,
-            &registration.map.mask_triangles,
-        );
-        let points: Vec<_> = registration
-            .mask_on_avatar
-            .iter()
-            .zip(&normals)
-            .map(|(p, n)| {
-                grid.closest_facing(*p, *n, MIN_NORMAL_DOT, f64::INFINITY)
-                    .or_else(|| grid.closest(*p))
-                    .map(|c| (grid.triangles()[c.triangle], c.barycentric))
-            })
-            .collect();
+        let points = skin_points(registration, positions, face_triangles);
         let n = points.len();
         let triangles = &registration.map.mask_triangles;
         let rows: Vec<(u32, [u32; 3], [f64; 3])> = registration
@@ -186,6 +168,36 @@ impl MaskOnSkin {
             .map(|i| DVec3::new(rhs[(i, 0)], rhs[(i, 1)], rhs[(i, 2)]))
             .collect()
     }
+}
+
+/// Where each registered mask vertex lies on the avatar's skin: the
+/// corners and barycentrics of the closest point of `face_triangles`
+/// (avatar vertex indices over rest `positions`) among those facing the
+/// same way (normals within 60°, as the registration pairs them), else the
+/// plain closest point; `None` only when there are no triangles.
+pub fn skin_points(
+    registration: &FaceRegistration,
+    positions: &[DVec3],
+    face_triangles: &[[u32; 3]],
+) -> Vec<Option<([u32; 3], [f64; 3])>> {
+    let grid = TriangleGrid::new(positions, face_triangles);
+    // The compatible closest point: a mask vertex on the lip's edge takes
+    // the lip's outer skin, not the lining of the mouth behind it, which
+    // the avatar's own mouthRollLower moves quite differently.
+    let normals = vertex_normals(
+        &registration.mask_on_avatar,
+        &registration.map.mask_triangles,
+    );
+    registration
+        .mask_on_avatar
+        .iter()
+        .zip(&normals)
+        .map(|(p, n)| {
+            grid.closest_facing(*p, *n, MIN_NORMAL_DOT, f64::INFINITY)
+                .or_else(|| grid.closest(*p))
+                .map(|c| (grid.triangles()[c.triangle], c.barycentric))
+        })
+        .collect()
 }
 
 /// For each ARKit shape (Apple's order), `S_j` at every registered mask

@@ -4,7 +4,8 @@
 //! FFI) both call [`personal_avatar`]; neither repeats a decision.
 //!
 //! The steps, each in its own module: the face found ([`find_face()`], or a
-//! registration cached from an earlier run), Eq. (4) ([`retarget`]), the
+//! registration cached from an earlier run), the person's own face taken
+//! onto the avatar's rest if asked ([`take_face`]), Eq. (4) ([`retarget`]), the
 //! seamless partial deformation transfer ([`implant`]), and the GLB
 //! written back ([`written_back_glb`]). Between steps the caller's
 //! [`Progress`] hears how far the work has got and may cancel it.
@@ -15,6 +16,7 @@ use super::glb::{
 };
 use super::model::{Avatar, AvatarMesh, AvatarPart};
 use super::partial_transfer::{ImplantError, Implanted, implant};
+use super::person_face::{TakeFaceError, TakenFace, take_face};
 use super::registration::{FaceRegistration, RegistrationError, find_face};
 use super::retargeting::{NEGLIGIBLE, RetargetError, Retargeting, retarget};
 use super::target_names::ArkitTargets;
@@ -32,6 +34,9 @@ pub enum AvatarStep {
     Checking,
     /// Finding the face (skipped when a registration is given).
     FindingFace,
+    /// Giving the avatar the person's face at rest (only for
+    /// [`RestFace::Person`]).
+    TakingFace,
     /// Eq. (4).
     Retargeting,
     /// Steps 1 and 2, rigid parts, eyelid repair.
@@ -46,6 +51,7 @@ impl AvatarStep {
         match self {
             AvatarStep::Checking => "checking the avatar",
             AvatarStep::FindingFace => "finding the face",
+            AvatarStep::TakingFace => "taking the person's face",
             AvatarStep::Retargeting => "retargeting (Eq. 4)",
             AvatarStep::Implanting => "implanting the person's shapes",
             AvatarStep::Writing => "writing the GLB",
@@ -58,6 +64,7 @@ impl AvatarStep {
         match self {
             AvatarStep::Checking => 0.0,
             AvatarStep::FindingFace => 0.05,
+            AvatarStep::TakingFace => 0.5,
             AvatarStep::Retargeting => 0.55,
             AvatarStep::Implanting => 0.6,
             AvatarStep::Writing => 0.9,
@@ -86,6 +93,31 @@ pub enum AvatarShapes {
     /// The automatic retargeting `A_j` of Eq. (4): the avatar's own shapes
     /// combined (for comparison).
     Retargeted,
+}
+
+/// Whose face the avatar has at rest.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum RestFace {
+    /// The avatar's own (the user chose that look).
+    #[default]
+    Stock,
+    /// The person's, from the scanned neutral ([`crate::avatar::person_face`]):
+    /// the default on the project's own default avatar.
+    Person,
+}
+
+impl RestFace {
+    /// Whose face an avatar gets at rest when the user asked for `asked`
+    /// (or nothing): the person's on the project's default avatar, whose
+    /// stock face nobody chose; the avatar's own on one the user brings,
+    /// since they chose that look. What they asked for wins.
+    pub fn chosen(on_default_avatar: bool, asked: Option<RestFace>) -> RestFace {
+        asked.unwrap_or(if on_default_avatar {
+            RestFace::Person
+        } else {
+            RestFace::Stock
+        })
+    }
 }
 
 /// Something the avatar lacked, so a step was skipped or limited; the
@@ -163,6 +195,15 @@ pub enum AvatarError {
         #[source]
         source: RetargetError,
     },
+    /// The person's face could not be taken.
+    #[error("{file}: taking the person's face: {source}")]
+    TakeFace {
+        /// The avatar's file.
+        file: String,
+        /// Why.
+        #[source]
+        source: TakeFaceError,
+    },
     /// The transfer failed.
     #[error("{file}: {source}")]
     Implant {
@@ -195,8 +236,12 @@ pub struct PersonalAvatar {
     pub glb: Vec<u8>,
     /// Which targets carry ARKit's shapes in the avatar as read.
     pub found: ArkitTargets,
-    /// The face found (or the one given).
+    /// The face found (or the one given), on the avatar as read.
     pub registration: FaceRegistration,
+    /// The person's face taken onto the rest ([`RestFace::Person`]): the
+    /// avatar the shapes were implanted into, and the registration moved
+    /// with it.
+    pub taken_face: Option<TakenFace>,
     /// Eq. (4).
     pub retargeting: Retargeting,
     /// What the transfer did (`None` for [`AvatarShapes::Retargeted`]).
@@ -205,14 +250,31 @@ pub struct PersonalAvatar {
     pub warnings: Vec<AvatarWarning>,
 }
 
+impl PersonalAvatar {
+    /// The avatar the shapes were implanted into: `stock` (the avatar as
+    /// read), or it with the person's face at rest.
+    pub fn shaped<'a>(&'a self, stock: &'a Avatar) -> &'a Avatar {
+        self.taken_face.as_ref().map_or(stock, |t| &t.avatar)
+    }
+
+    /// The registration on [`PersonalAvatar::shaped`].
+    pub fn shaped_registration(&self) -> &FaceRegistration {
+        self.taken_face
+            .as_ref()
+            .map_or(&self.registration, |t| &t.registration)
+    }
+}
+
 /// Makes the person's avatar from `glb` (module docs): `registration` is a
 /// face found earlier on this avatar for this mask (see
-/// [`super::registration::cache`]), or `None` to find it now.
+/// [`super::registration::cache`]), or `None` to find it now; `face` says
+/// whose face it has at rest.
 pub fn personal_avatar(
     glb: &GlbAvatar,
     person: &PersonInput<'_>,
     registration: Option<FaceRegistration>,
     shapes: AvatarShapes,
+    face: RestFace,
     progress: &mut dyn Progress,
 ) -> Result<PersonalAvatar, AvatarError> {
     let file = glb.file.display().to_string();
@@ -247,9 +309,26 @@ pub fn personal_avatar(
     if registration.eyeballs.is_empty() {
         warnings.push(AvatarWarning::NoEyeballs);
     }
+    let taken_face = match face {
+        RestFace::Stock => None,
+        RestFace::Person => {
+            go(AvatarStep::TakingFace)?;
+            let taken = take_face(avatar, &registration, person.personalized.neutral()).map_err(
+                |source| AvatarError::TakeFace {
+                    file: file.clone(),
+                    source,
+                },
+            )?;
+            Some(taken)
+        }
+    };
+    let (avatar, found_on) = match &taken_face {
+        Some(t) => (&t.avatar, &t.registration),
+        None => (avatar, &registration),
+    };
 
     go(AvatarStep::Retargeting)?;
-    let retargeting = retarget(avatar, &registration, person.personalized).map_err(|source| {
+    let retargeting = retarget(avatar, found_on, person.personalized).map_err(|source| {
         AvatarError::Retargeting {
             file: file.clone(),
             source,
@@ -262,7 +341,7 @@ pub fn personal_avatar(
         AvatarShapes::Personalized => {
             let implanted = implant(
                 avatar,
-                &registration,
+                found_on,
                 &retargeting,
                 person.personalized,
                 person.mask.triangles(),
@@ -271,7 +350,7 @@ pub fn personal_avatar(
                 file: file.clone(),
                 source,
             })?;
-            if !has_teeth(avatar, &implanted, &registration) {
+            if !has_teeth(avatar, &implanted, found_on) {
                 warnings.push(AvatarWarning::NoTeeth);
             }
             (implanted.shapes.clone(), Some(implanted))
@@ -279,16 +358,16 @@ pub fn personal_avatar(
     };
 
     go(AvatarStep::Writing)?;
-    let bytes = written_back_glb(
-        glb,
-        &per_part_shapes(avatar, &displacements),
-        TargetEncoding::Smallest,
-        &glb.file,
-    )?;
+    let mut new_shapes = per_part_shapes(avatar, &displacements);
+    if taken_face.is_some() {
+        new_shapes.set_rest(avatar.parts.iter().map(|p| p.positions.clone()).collect());
+    }
+    let bytes = written_back_glb(glb, &new_shapes, TargetEncoding::Smallest, &glb.file)?;
     Ok(PersonalAvatar {
         glb: bytes,
         found,
         registration,
+        taken_face,
         retargeting,
         implanted,
         warnings,
@@ -465,4 +544,20 @@ pub fn retarget_map_json(glb: &GlbAvatar, r: &Retargeting) -> String {
     };
     // Serializing strings, numbers and arrays cannot fail.
     serde_json::to_string_pretty(&file).unwrap_or_default()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_default_avatar_takes_the_persons_face_and_a_brought_one_keeps_its_own() {
+        assert_eq!(RestFace::chosen(true, None), RestFace::Person);
+        assert_eq!(RestFace::chosen(false, None), RestFace::Stock);
+        for asked in [RestFace::Stock, RestFace::Person] {
+            for on_default in [true, false] {
+                assert_eq!(RestFace::chosen(on_default, Some(asked)), asked);
+            }
+        }
+    }
 }

@@ -158,7 +158,7 @@ impl Retargeting {
     /// `Avatar::positions`) under ARKit shape `shape`, `Σ_i w̃_ji B̃_i`.
     pub fn displacement(&self, avatar: &Avatar, shape: Blendshape) -> Vec<Vec3> {
         let own = self.blendshape_displacements(avatar);
-        self.combine(&own, shape, 0.0)
+        self.combine(avatar.vertex_count(), &own, shape, 0.0)
     }
 
     /// `A_j` for all 52 shapes, each avatar blendshape's displacement
@@ -175,28 +175,46 @@ impl Retargeting {
         let cut = NEGLIGIBLE * f64::from((hi - lo).length());
         Blendshape::ALL
             .iter()
-            .map(|b| self.combine(&own, *b, if cut.is_finite() { cut } else { 0.0 }))
+            .map(|b| {
+                let cut = if cut.is_finite() { cut } else { 0.0 };
+                self.combine(positions.len(), &own, *b, cut)
+            })
             .collect()
     }
 
-    /// Each avatar blendshape's displacement over all avatar vertices.
-    fn blendshape_displacements(&self, avatar: &Avatar) -> Vec<Vec<Vec3>> {
+    /// Each avatar blendshape's displacement, as the vertices it moves
+    /// (index and displacement): targets move a small part of the head, so
+    /// combining 52 of them touches only those.
+    fn blendshape_displacements(&self, avatar: &Avatar) -> Vec<Vec<(usize, Vec3)>> {
         self.targets
             .iter()
-            .map(|b| avatar.summed_displacement(&b.targets))
+            .map(|b| {
+                let d = avatar.summed_displacement(&b.targets);
+                d.into_iter()
+                    .enumerate()
+                    .filter(|(_, x)| *x != Vec3::ZERO)
+                    .collect()
+            })
             .collect()
     }
 
-    /// `Σ_i w̃_ji B̃_i` from the blendshapes' displacements `own`, lengths
-    /// below `cut` set to zero.
-    fn combine(&self, own: &[Vec<Vec3>], shape: Blendshape, cut: f64) -> Vec<Vec3> {
-        let n = own.first().map_or(0, |d| d.len());
+    /// `Σ_i w̃_ji B̃_i` over `n` vertices from the blendshapes' moved
+    /// vertices `own`, lengths below `cut` set to zero.
+    fn combine(
+        &self,
+        n: usize,
+        own: &[Vec<(usize, Vec3)>],
+        shape: Blendshape,
+        cut: f64,
+    ) -> Vec<Vec3> {
         let mut out = vec![DVec3::ZERO; n];
         if let Some(row) = self.weights.get(shape.index()) {
             for (d, w) in own.iter().zip(row) {
                 if *w != 0.0 {
-                    for (o, x) in out.iter_mut().zip(d) {
-                        *o += x.as_dvec3() * *w;
+                    for (v, x) in d {
+                        if let Some(o) = out.get_mut(*v) {
+                            *o += x.as_dvec3() * *w;
+                        }
                     }
                 }
             }

@@ -7,49 +7,91 @@ use glam::DVec3;
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
+/// A mesh's edge graph: each vertex's neighbours along the edges of its
+/// triangles, each edge once, with its length at rest. Built once and
+/// searched many times (one search per shape when fading 52 shapes).
+#[derive(Clone, Debug)]
+pub struct EdgeGraph {
+    /// `neighbours[offsets[v]..offsets[v + 1]]` are `v`'s.
+    offsets: Vec<usize>,
+    /// Each neighbour and the edge's length.
+    neighbours: Vec<(u32, f64)>,
+}
+
+impl EdgeGraph {
+    /// The edges of `triangles` over the vertices of `positions`, with the
+    /// lengths of `positions`; triangles naming a vertex past `positions`
+    /// are skipped.
+    pub fn new(positions: &[DVec3], triangles: &[[u32; 3]]) -> EdgeGraph {
+        let n = positions.len();
+        let mut lists: Vec<Vec<u32>> = vec![Vec::new(); n];
+        for t in triangles {
+            if t.iter().any(|&v| v as usize >= n) {
+                continue;
+            }
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                lists[a as usize].push(b);
+                lists[b as usize].push(a);
+            }
+        }
+        let mut offsets = Vec::with_capacity(n + 1);
+        let mut neighbours = Vec::new();
+        offsets.push(0);
+        for (v, list) in lists.iter_mut().enumerate() {
+            list.sort_unstable();
+            list.dedup();
+            neighbours.extend(
+                list.iter()
+                    .map(|&u| (u, positions[v].distance(positions[u as usize]))),
+            );
+            offsets.push(neighbours.len());
+        }
+        EdgeGraph {
+            offsets,
+            neighbours,
+        }
+    }
+
+    /// For every vertex, the length of the shortest edge path from a
+    /// vertex with `source[v]` (0 for those; vertices past `source` are
+    /// not sources); `f64::INFINITY` beyond `reach` (the search stops
+    /// there).
+    pub fn distances(&self, source: &[bool], reach: f64) -> Vec<f64> {
+        let n = self.offsets.len() - 1;
+        let mut distance = vec![f64::INFINITY; n];
+        let mut queue = BinaryHeap::new();
+        for v in (0..n.min(source.len())).filter(|&v| source[v]) {
+            distance[v] = 0.0;
+            queue.push(Reverse((Key(0.0), v)));
+        }
+        while let Some(Reverse((Key(d), v))) = queue.pop() {
+            if d > distance[v] {
+                continue;
+            }
+            for &(u, length) in &self.neighbours[self.offsets[v]..self.offsets[v + 1]] {
+                let u = u as usize;
+                let next = d + length;
+                if next < distance[u] && next <= reach {
+                    distance[u] = next;
+                    queue.push(Reverse((Key(next), u)));
+                }
+            }
+        }
+        distance
+    }
+}
+
 /// For every vertex, the length of the shortest edge path from a vertex
-/// with `source[v]` (0 for those), over the edges of `triangles` with the
-/// lengths of `positions`; `f64::INFINITY` beyond `reach` (the search
-/// stops there). Vertices are those of `positions`; triangles naming a
-/// vertex past `positions` or `source` are skipped.
+/// with `source[v]` over the edges of `triangles` with the lengths of
+/// `positions` ([`EdgeGraph::distances`] on a graph built for one search).
 pub fn edge_distances(
     positions: &[DVec3],
     triangles: &[[u32; 3]],
     source: &[bool],
     reach: f64,
 ) -> Vec<f64> {
-    let n = positions.len().min(source.len());
-    let mut neighbours: Vec<Vec<u32>> = vec![Vec::new(); n];
-    for t in triangles {
-        if t.iter().any(|&v| v as usize >= n) {
-            continue;
-        }
-        for k in 0..3 {
-            let (a, b) = (t[k], t[(k + 1) % 3]);
-            neighbours[a as usize].push(b);
-            neighbours[b as usize].push(a);
-        }
-    }
-    let mut distance = vec![f64::INFINITY; positions.len()];
-    let mut queue = BinaryHeap::new();
-    for v in (0..n).filter(|&v| source[v]) {
-        distance[v] = 0.0;
-        queue.push(Reverse((Key(0.0), v)));
-    }
-    while let Some(Reverse((Key(d), v))) = queue.pop() {
-        if d > distance[v] {
-            continue;
-        }
-        for &u in &neighbours[v] {
-            let u = u as usize;
-            let next = d + positions[v].distance(positions[u]);
-            if next < distance[u] && next <= reach {
-                distance[u] = next;
-                queue.push(Reverse((Key(next), u)));
-            }
-        }
-    }
-    distance
+    EdgeGraph::new(positions, triangles).distances(source, reach)
 }
 
 /// A distance ordered totally (`f64::total_cmp`), for the queue.

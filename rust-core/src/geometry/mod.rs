@@ -13,6 +13,8 @@
 //! | §3.3, teeth and eyeballs inside one mesh | connected components (union–find) | [`connected_components`] |
 //! | §3.3, the skin the mask may lie on | triangles seen from the front (orthographic depth buffer) | [`front_visibility`] |
 //! | §3.3, the blend margin; motion faded out where nothing moves | shortest edge paths from a set of vertices (Dijkstra) | [`edge_distance`] |
+//! | §3.3 step 2, the person's face: the uniform Laplacian's rows | each vertex's one-ring | [`one_ring`] |
+//! | beyond §3.3, the person's face: skin that must not pass through itself | triangle pairs that cut through each other (Möller–Trumbore, binned) | [`self_intersection`] |
 //! | §3.3, eyeballs found by their shape | algebraic least-squares sphere (Kåsa 1976) | [`sphere_fit`] |
 
 pub mod closest_point;
@@ -22,6 +24,8 @@ pub mod deformation_transfer;
 pub mod edge_distance;
 pub mod front_visibility;
 pub mod mesh_boundary;
+pub mod one_ring;
+pub mod self_intersection;
 pub mod sphere_fit;
 pub mod topology;
 

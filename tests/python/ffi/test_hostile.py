@@ -200,7 +200,7 @@ def test_avatars_without_morph_targets_or_not_gltf_are_avatar_errors(ffi, subjec
         (b"\x00" * 64, "not glTF"),
     ]:
         with pytest.raises(ffi.LikenessError.Avatar) as error:
-            face.avatar(glb, None)
+            face.avatar(glb, None, None)
         assert message in error.value.message, error.value.message
 
 

@@ -109,7 +109,7 @@ def test_the_captured_sessions_avatar_is_the_commands_byte_for_byte(ffi, cli, ca
             "--cache-dir", tmp_path / "cache", "--json",
         )
     )
-    result = handle.personalize(None, None).avatar(None, None)
+    result = handle.personalize(None, None).avatar(None, None, None)
     assert result.glb == out.read_bytes()
     assert result.retarget_map_json == map_path.read_text()
     assert result.warnings == report["warnings"]
@@ -117,10 +117,26 @@ def test_the_captured_sessions_avatar_is_the_commands_byte_for_byte(ffi, cli, ca
     assert f"{report['face_vertices']} vertices" in result.summary
     retarget = json.loads(result.retarget_map_json)
     assert retarget["arkit"] == ffi.arkit_names()
+    # The default avatar takes the person's face, as the command does.
+    assert report["rest_face"] == "person"
+    assert result.rest_face == ffi.RestFaceChoice.PERSON
+    assert "It has your face at rest" in result.summary
+
+
+def test_keeping_the_stock_face_is_the_commands_keep_face(ffi, cli, subject_1, tmp_path):
+    out = tmp_path / "avatar.glb"
+    report = json.loads(cli("avatar", SUBJECT_1, "--keep-face", "--out", out, "--json"))
+    assert report["rest_face"] == "stock"
+    face = subject_1.personalize(None, None)
+    kept = face.avatar(None, ffi.RestFaceChoice.STOCK, None)
+    assert kept.glb == out.read_bytes()
+    assert kept.rest_face == ffi.RestFaceChoice.STOCK
+    assert "It keeps its own face at rest." in kept.summary
+    assert face.avatar(None, None, None).glb != kept.glb
 
 
 def test_the_avatar_preview_poses_the_written_avatar_by_live_weights(ffi, subject_1):
-    result = subject_1.personalize(None, None).avatar(None, None)
+    result = subject_1.personalize(None, None).avatar(None, None, None)
     preview = ffi.AvatarPreview(result.glb)
     assert preview.shapes_found() == 52
     rest = preview.pose([0.0] * 52)

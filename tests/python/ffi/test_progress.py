@@ -14,6 +14,7 @@ PERSONALIZE = [
 AVATAR = [
     "checking the avatar",
     "finding the face",
+    "taking the person's face",
     "retargeting (Eq. 4)",
     "implanting the person's shapes",
     "writing the GLB",
@@ -33,7 +34,7 @@ def test_personalization_reports_each_stage(subject_1, listener):
 
 def test_the_avatar_reports_each_step_in_order(subject_1, listener):
     heard = listener()
-    result = subject_1.personalize("dt", None).avatar(None, heard)
+    result = subject_1.personalize("dt", None).avatar(None, None, heard)
     assert [stage for stage, _ in heard.reports] == AVATAR
     fractions = [f for _, f in heard.reports]
     assert fractions == sorted(fractions) and fractions[0] == 0.0 and fractions[-1] == 1.0
@@ -53,7 +54,7 @@ def test_cancelling_stops_the_avatar(ffi, subject_1, listener):
     for cancel_at in (0, 2, 4):
         heard = listener(cancel_at)
         with pytest.raises(ffi.LikenessError.Cancelled):
-            face.avatar(None, heard)
+            face.avatar(None, None, heard)
         assert [stage for stage, _ in heard.reports] == AVATAR[:cancel_at]
 
 
@@ -66,7 +67,7 @@ def test_a_listener_that_raises_is_an_internal_error_not_a_crash(ffi, subject_1,
         subject_1.personalize("dt", Raising())
     face = subject_1.personalize("dt", None)
     with pytest.raises(ffi.InternalError):
-        face.avatar(None, Raising())
+        face.avatar(None, None, Raising())
     # Both objects still work.
     assert len(face.pose([0.0] * 52)) == 3660
     assert subject_1.personalize("dt", listener()).method() == "dt"

@@ -118,6 +118,19 @@ impl Builder {
         }))
     }
 
+    /// A dense `VEC4` float accessor (tangents: no bounds required).
+    pub fn vec4(&mut self, values: &[[f32; 4]]) -> usize {
+        let bytes: Vec<u8> = values
+            .iter()
+            .flatten()
+            .flat_map(|x| x.to_le_bytes())
+            .collect();
+        let view = self.view(&bytes, Some(ARRAY_BUFFER));
+        self.accessor(json!({
+            "bufferView": view, "componentType": FLOAT, "count": values.len(), "type": "VEC4",
+        }))
+    }
+
     /// Triangle indices, 16-bit when every index fits below 65535 (the
     /// largest value is the primitive-restart value, which glTF forbids).
     pub fn triangles(&mut self, triangles: &[[u32; 3]]) -> usize {

@@ -15,6 +15,7 @@
 //! | Accessors; Data Alignment; Accessor Bounds | accessors and views as written, dense or sparse | [`encode`] |
 //! | | where accessors and views are referred to, renumbering | `refs.rs` |
 //! | Morph Targets | writing a read file back with new targets | [`write_back`] |
+//! | Meshes (`POSITION`, `NORMAL`, `TANGENT`) | a new rest written back, normals turned with the surface | `new_rest.rs` |
 //! | Meshes; Materials | writing an avatar as a new GLB | [`write_new`] |
 //! | | the one error type | [`error`] |
 
@@ -24,6 +25,7 @@ pub mod encode;
 pub mod error;
 mod meshopt;
 mod meshopt_filters;
+mod new_rest;
 mod normalized;
 mod quantization;
 pub mod read;

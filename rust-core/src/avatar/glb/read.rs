@@ -190,7 +190,10 @@ fn mentions(json: &serde_json::Value, extension: &str) -> bool {
 }
 
 /// The validated document of a (rewritten) JSON.
-fn document_of(json: &serde_json::Value, file: &Path) -> Result<gltf::Document, GlbError> {
+pub(crate) fn document_of(
+    json: &serde_json::Value,
+    file: &Path,
+) -> Result<gltf::Document, GlbError> {
     let root =
         gltf::json::deserialize::from_value(json.clone()).map_err(|e| GlbError::Invalid {
             file: file.to_path_buf(),

@@ -33,7 +33,10 @@
 //! materials, textures, images, animations, unknown extensions and extras)
 //! is left as it was, up to those renumbered references.
 
+use super::accessor::Source;
 use super::encode::{Builder, TargetEncoding};
+use super::new_rest::write_rest;
+use super::read::document_of;
 use super::refs::{Kind, filling, place, renumber, used};
 use super::{GlbAvatar, GlbError, container};
 use crate::arkit::{BLENDSHAPE_COUNT, Blendshape};
@@ -48,9 +51,15 @@ use std::path::Path;
 /// displacement per vertex.
 ///
 /// [`Avatar::parts`]: crate::avatar::Avatar::parts
+///
+/// It may also carry a new rest: world positions of every vertex, one list
+/// per part (the person's face taken, [`crate::avatar::person_face`]),
+/// written in place of each primitive's `POSITION`, its normals and
+/// tangents turned with the surface (`new_rest.rs`).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct NewShapes {
     shapes: Vec<Option<Vec<Vec<Vec3>>>>,
+    rest: Option<Vec<Vec<Vec3>>>,
 }
 
 impl NewShapes {
@@ -58,6 +67,7 @@ impl NewShapes {
     pub fn new() -> Self {
         NewShapes {
             shapes: vec![None; BLENDSHAPE_COUNT],
+            rest: None,
         }
     }
 
@@ -67,6 +77,16 @@ impl NewShapes {
             self.shapes.resize(BLENDSHAPE_COUNT, None);
         }
         self.shapes[shape.index()] = Some(per_part);
+    }
+
+    /// Sets a new rest: world positions, one list per part.
+    pub fn set_rest(&mut self, per_part: Vec<Vec<Vec3>>) {
+        self.rest = Some(per_part);
+    }
+
+    /// The new rest, if given.
+    pub fn rest(&self) -> Option<&[Vec<Vec3>]> {
+        self.rest.as_deref()
     }
 
     /// `shape`'s displacements, if given.
@@ -110,6 +130,14 @@ pub fn written_back_glb(
     let old_accessors = doc["accessors"].as_array().map_or(0, Vec::len);
     let old_views = doc["bufferViews"].as_array().map_or(0, Vec::len);
     let mut b = Builder::new();
+    let document = match shapes.rest() {
+        Some(_) => Some(document_of(&avatar.json, file)?),
+        None => None,
+    };
+    let source = Source {
+        file,
+        buffers: &avatar.buffers,
+    };
     for m in 0..avatar.avatar.meshes.len() {
         if !avatar.avatar.parts.iter().any(|p| p.mesh == m) {
             continue;
@@ -134,6 +162,25 @@ pub fn written_back_glb(
             };
             let inverse = avatar.placements[k].linear().inverse();
             let prim = &mut doc["meshes"][m]["primitives"][p];
+            if let (Some(rest), Some(document)) = (shapes.rest(), &document) {
+                let part = &avatar.avatar.parts[k];
+                let primitive = document
+                    .meshes()
+                    .nth(m)
+                    .and_then(|mesh| mesh.primitives().nth(p))
+                    .ok_or_else(|| err(format!("mesh {m} primitive {p}: not in the file")))?;
+                write_rest(
+                    prim,
+                    &primitive,
+                    &source,
+                    &mut b,
+                    old_accessors,
+                    avatar.placements[k].world,
+                    &part.positions,
+                    &rest[k],
+                    &part.triangles,
+                )?;
+            }
             let old = prim["targets"].as_array().cloned().unwrap_or_default();
             let mut targets = Vec::with_capacity(plan.len());
             for planned in &plan {
@@ -173,6 +220,23 @@ pub fn written_back_glb(
 /// Every new shape fits the avatar's parts and is finite.
 fn check_shapes(avatar: &GlbAvatar, shapes: &NewShapes) -> Result<(), String> {
     let parts = &avatar.avatar.parts;
+    if let Some(rest) = shapes.rest() {
+        if rest.len() != parts.len() {
+            return Err(format!(
+                "new rest: {} parts of data, the avatar has {}",
+                rest.len(),
+                parts.len()
+            ));
+        }
+        for (k, (p, part)) in rest.iter().zip(parts).enumerate() {
+            if p.len() != part.positions.len() || p.iter().any(|v| !v.is_finite()) {
+                return Err(format!(
+                    "new rest part {k}: not {} finite positions",
+                    part.positions.len()
+                ));
+            }
+        }
+    }
     for shape in Blendshape::ALL {
         let Some(per_part) = shapes.get(shape) else {
             continue;

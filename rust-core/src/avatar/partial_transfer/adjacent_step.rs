@@ -28,6 +28,7 @@
 
 use super::lid_contacts::{LidContact, least_energy_closing};
 use crate::geometry::edge_distance::edge_distances;
+use crate::geometry::one_ring::one_rings;
 use faer::linalg::solvers::Solve;
 use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
 use faer::sparse::{SparseColMat, Triplet};
@@ -58,19 +59,7 @@ impl AdjacentStep {
     /// within the blend margin of the face), all indexed by avatar vertex.
     pub fn new(triangles: &[[u32; 3]], face: &[bool], near: &[bool]) -> AdjacentStep {
         let n = face.len().min(near.len());
-        let mut neighbours: HashMap<u32, BTreeSet<u32>> = HashMap::new();
-        for t in triangles {
-            if t.iter().any(|&v| v as usize >= n) {
-                continue;
-            }
-            for k in 0..3 {
-                let (a, b) = (t[k], t[(k + 1) % 3]);
-                if a != b {
-                    neighbours.entry(a).or_default().insert(b);
-                    neighbours.entry(b).or_default().insert(a);
-                }
-            }
-        }
+        let neighbours = one_rings(n, triangles);
         let region: Vec<u32> = (0..n as u32)
             .filter(|&v| near[v as usize] && !face[v as usize] && neighbours.contains_key(&v))
             .collect();

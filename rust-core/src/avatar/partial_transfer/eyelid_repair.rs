@@ -133,8 +133,9 @@ pub fn repair_eyelids(
     moved
 }
 
-/// How far `p` lies inside `grid` (zero outside).
-fn depth(grid: &TriangleGrid, p: DVec3) -> f64 {
+/// How far `p` lies inside the closed surface `grid` (zero outside):
+/// along the normal of the closest point's triangle.
+pub fn depth(grid: &TriangleGrid, p: DVec3) -> f64 {
     inside(grid, p).map_or(0.0, |(c, normal)| (c - p).dot(normal))
 }
 

@@ -51,6 +51,7 @@ use super::registration::FaceRegistration;
 use super::registration::find_face::arkit_displacement;
 use super::retargeting::{NEGLIGIBLE, RetargetError, Retargeting, mapped_shapes};
 use crate::arkit::{Blendshape, Blendshapes};
+use crate::personalize::blendshape_fit::in_parallel_ranges;
 use adjacent_step::AdjacentStep;
 use closed_lids::ClosedLids;
 use eyelid_repair::{Eyeball, LID_OFFSET_MM, NEAR_MM, repair_eyelids};
@@ -58,7 +59,7 @@ use face_step::{FaceStep, FaceStepError};
 use glam::{DVec3, Vec3};
 use lid_contacts::ClosingEyes;
 use rigid_parts::make_rigid;
-use stay_put::{FADE_MM, STILL_MM, fade_still};
+use stay_put::{FADE_MM, STILL_MM, StillFade};
 
 /// Skin within this distance of the face region (mm at the mask's scale,
 /// along the surface) is the adjacent region of step 2: the difference
@@ -271,15 +272,17 @@ pub fn implant(
     let to_avatar = registration.similarity.scale / 1000.0;
     let person_moves = mapped;
     let still = STILL_MM * to_avatar;
-    let mut faded = 0;
-    for (j, (d, own)) in full.iter_mut().zip(&own_shapes).enumerate() {
+    let fading = StillFade::new(&positions, &face_part_triangles, FADE_MM * to_avatar);
+    // Shape `j` faded (module docs of `stay_put`); the shapes are
+    // independent, so they are shared out between the cores.
+    let fade = |j: usize| -> (Vec<DVec3>, usize) {
         let mut moving = vec![false; n];
         for (f, m) in registration.map.face.iter().zip(&person_moves[j]) {
             if m.length() > still {
                 moving[f.vertex as usize] = true;
             }
         }
-        if let Some(own) = own {
+        if let Some(own) = &own_shapes[j] {
             for (x, o) in moving.iter_mut().zip(own) {
                 *x |= *o != DVec3::ZERO;
             }
@@ -287,14 +290,25 @@ pub fn implant(
         for (x, a) in moving.iter_mut().zip(&retargeted[j]) {
             *x |= a.length() > still;
         }
-        faded += fade_still(
-            &positions,
-            &face_part_triangles,
-            d,
-            &moving,
-            FADE_MM * to_avatar,
-        );
-    }
+        let mut d = full[j].clone();
+        let changed = fading.apply(&mut d, &moving);
+        (d, changed)
+    };
+    let fade_range = |range: std::ops::Range<usize>| range.map(fade).collect::<Vec<_>>();
+    let faded_shapes: Vec<(Vec<DVec3>, usize)> = match in_parallel_ranges(full.len(), fade_range)
+        .into_iter()
+        .collect::<Option<Vec<_>>>()
+    {
+        Some(parts) => parts.into_iter().flatten().collect(),
+        // A thread panicked: again on this thread, where the panic
+        // reaches the caller.
+        None => fade_range(0..full.len()),
+    };
+    let faded = faded_shapes
+        .iter()
+        .map(|(_, changed)| changed)
+        .sum::<usize>();
+    full = faded_shapes.into_iter().map(|(d, _)| d).collect();
     // Rigid pieces: each connected component outside the face parts that
     // every own target moves rigidly (an eyeball; each tooth, or a
     // teeth-and-gums arch, in a mesh that holds both jaws), held rigid.
@@ -323,7 +337,7 @@ pub fn implant(
     let eyeballs: Vec<Eyeball> = registration
         .eyeballs
         .iter()
-        .map(|vertices| Eyeball::new(&positions, triangles_within(avatar, vertices)))
+        .map(|vertices| Eyeball::new(&positions, avatar.triangles_within(vertices)))
         .collect();
     let skin: Vec<u32> = (0..n as u32)
         .filter(|&v| in_face_parts[v as usize])
@@ -375,20 +389,4 @@ pub fn implant(
         rigid_pieces: pieces,
         rigid_deviation_removed,
     })
-}
-
-/// The avatar's triangles (global indices) whose corners are all in
-/// `vertices` (increasing).
-fn triangles_within(avatar: &Avatar, vertices: &[u32]) -> Vec<[u32; 3]> {
-    let offsets = avatar.vertex_offsets();
-    avatar
-        .parts
-        .iter()
-        .enumerate()
-        .flat_map(|(i, part)| {
-            let o = offsets[i] as u32;
-            part.triangles.iter().map(move |t| t.map(|v| v + o))
-        })
-        .filter(|t| t.iter().all(|v| vertices.binary_search(v).is_ok()))
-        .collect()
 }

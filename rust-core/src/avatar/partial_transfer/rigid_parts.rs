@@ -98,8 +98,18 @@ pub fn wholly_rigid_parts(avatar: &Avatar, pieces: &[RigidPiece]) -> Vec<usize> 
 pub const RIGID_TOLERANCE: f64 = 0.05;
 
 /// The largest distance between `rest + displacement` and the rigid motion
-/// closest to it, over `vertices`; 0 for fewer than three.
+/// closest to it, over `vertices`; 0 for fewer than three, and for a
+/// displacement that moves none of them (most targets leave the teeth and
+/// eyeballs alone, and need no fit).
 pub fn rigid_deviation(rest: &[DVec3], displacement: &[DVec3], vertices: &[u32]) -> f64 {
+    let still = |v: &u32| {
+        displacement
+            .get(*v as usize)
+            .is_none_or(|d| *d == DVec3::ZERO)
+    };
+    if vertices.iter().all(still) {
+        return 0.0;
+    }
     let (p, q) = pairs(rest, displacement, vertices);
     match fit_rigid(&p, &q, &vec![1.0; p.len()]) {
         Some(m) => p

@@ -20,7 +20,7 @@
 //! ends), and a drift of `δ` faded over `F` strains the skin by at most
 //! `π δ / 2F`, 14% for the 0.9 mm drift: no edge tears.
 
-use crate::geometry::edge_distance::edge_distances;
+use crate::geometry::edge_distance::EdgeGraph;
 use glam::DVec3;
 use std::f64::consts::PI;
 
@@ -44,37 +44,51 @@ pub fn fade_weight(d: f64, fade: f64) -> f64 {
     }
 }
 
-/// Fades one shape's `displacement` (every avatar vertex) out on the face
-/// parts' vertices away from `moving` ones (module docs): `triangles` are
-/// the face parts' (avatar indices), `positions` the avatar at rest, `fade`
-/// is `F` in avatar units. Vertices outside the face parts are left alone.
-/// Returns how many vertices were changed.
-pub fn fade_still(
-    positions: &[DVec3],
-    triangles: &[[u32; 3]],
-    displacement: &mut [DVec3],
-    moving: &[bool],
+/// The fade of the module docs, prepared once for every shape: the face
+/// parts' edge graph and which vertices are on them.
+pub struct StillFade {
+    graph: EdgeGraph,
+    on_parts: Vec<bool>,
     fade: f64,
-) -> usize {
-    let distance = edge_distances(positions, triangles, moving, fade);
-    let mut on_parts = vec![false; positions.len()];
-    for &v in triangles.iter().flatten() {
-        if let Some(x) = on_parts.get_mut(v as usize) {
-            *x = true;
+}
+
+impl StillFade {
+    /// The fade over the face parts' `triangles` (avatar indices) with
+    /// `positions` the avatar at rest and `fade` the band `F` in avatar
+    /// units.
+    pub fn new(positions: &[DVec3], triangles: &[[u32; 3]], fade: f64) -> StillFade {
+        let mut on_parts = vec![false; positions.len()];
+        for &v in triangles.iter().flatten() {
+            if let Some(x) = on_parts.get_mut(v as usize) {
+                *x = true;
+            }
+        }
+        StillFade {
+            graph: EdgeGraph::new(positions, triangles),
+            on_parts,
+            fade,
         }
     }
-    let mut changed = 0;
-    for (v, d) in displacement.iter_mut().enumerate() {
-        let (Some(true), Some(&dist)) = (on_parts.get(v), distance.get(v)) else {
-            continue;
-        };
-        let w = fade_weight(dist, fade);
-        if w < 1.0 && *d != DVec3::ZERO {
-            *d *= w;
-            changed += 1;
+
+    /// Fades one shape's `displacement` (every avatar vertex) out on the
+    /// face parts' vertices away from `moving` ones (module docs).
+    /// Vertices outside the face parts are left alone. Returns how many
+    /// vertices were changed.
+    pub fn apply(&self, displacement: &mut [DVec3], moving: &[bool]) -> usize {
+        let distance = self.graph.distances(moving, self.fade);
+        let mut changed = 0;
+        for (v, d) in displacement.iter_mut().enumerate() {
+            let (Some(true), Some(&dist)) = (self.on_parts.get(v), distance.get(v)) else {
+                continue;
+            };
+            let w = fade_weight(dist, self.fade);
+            if w < 1.0 && *d != DVec3::ZERO {
+                *d *= w;
+                changed += 1;
+            }
         }
+        changed
     }
-    changed
 }
 
 #[cfg(test)]
@@ -114,7 +128,7 @@ mod tests {
         let mut d = vec![DVec3::X; p.len()];
         let mut moving = vec![false; p.len()];
         moving[0] = true;
-        fade_still(&p, &t, &mut d, &moving, 4.0);
+        StillFade::new(&p, &t, 4.0).apply(&mut d, &moving);
         assert_eq!(d[0], DVec3::X);
         assert!((d[4].x - 0.5).abs() < 1e-12, "2 from the mover: half");
         assert_eq!(d[8], DVec3::ZERO, "4 away: faded out");

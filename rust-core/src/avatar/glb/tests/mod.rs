@@ -5,9 +5,11 @@
 //! | what | file |
 //! |---|---|
 //! | placement, names, skins, every error | `reading.rs` |
+//! | a new rest written back, normals and tangents turned | `rest.rs` |
 //! | write-back rules, JSON kept, sparse and dense, `.gltf` with a `.bin` or a data URI | `writing.rs` |
 
 mod reading;
+mod rest;
 mod writing;
 
 use super::container::join;

@@ -1,0 +1,191 @@
+//! The person's own face on the avatar (beyond the paper): the avatar's
+//! rest takes the person's scanned neutral `B₀` on the face region, the
+//! rest of the head follows it seamlessly, and everything the skin holds
+//! (eyeballs, teeth, ears, linings) follows the skin. The 52 shapes are
+//! then implanted on that new rest ([`crate::avatar::partial_transfer`]),
+//! so every shape is the person's motion on the person's face.
+//!
+//! **The skin.** The registration knows where each vertex `i` of the
+//! mask lies on the avatar's skin, `p_i = Σ_k β_ik x_{v_ik}`
+//! ([`crate::avatar::own_shapes::skin_points`]), and the scanned neutral
+//! says where it should be, `q_i = σ(B₀_i)`, with `σ` the registration's
+//! similarity (mask → avatar). The skin's change `u` passes through the
+//! wanted changes `d_i = q_i − p_i` at those points, is as smooth as can
+//! be between them (bi-Laplacian, like step 2's correction) and fades to
+//! zero within [`REACH_MM`] of the face along the skin ([`mod@rest_field`]).
+//! The lid margins and the inner lips, which the map `M` leaves out, are
+//! held by the mask's rims like every other point. Skin that touches
+//! itself at rest (the lips along the mouth's line) stays together where
+//! the person's lips stay together, and never passes through itself
+//! ([`rest_field::keep_touching`]).
+//!
+//! **What the skin holds** ([`followers`]): the eyeballs take the
+//! similarity that carries the lids around them (so they sit in the
+//! person's eye openings, scaled to them), each rigid piece (teeth, gums)
+//! the similarity that carries the skin around it (the mouth), and every
+//! other vertex off the face parts (ears, sockets, the mouth's lining, a
+//! tongue) the change of the skin point closest to it.
+//!
+//! | what | file |
+//! |---|---|
+//! | the skin through the scanned neutral at the mask's points, the head following (bi-Laplacian, zero beyond the reach) | [`mod@rest_field`] |
+//! | eyeballs into the person's eye openings, rigid pieces with the skin around them, the rest with the skin nearest | [`followers`] |
+
+pub mod followers;
+pub mod rest_field;
+
+use super::model::Avatar;
+use super::own_shapes::{face_part_triangles, skin_points};
+use super::partial_transfer::adjacent_step::within;
+use super::partial_transfer::stay_put::STILL_MM;
+use super::registration::FaceRegistration;
+use followers::{EyeFollowed, follow_skin};
+use glam::DVec3;
+use rest_field::{PointChange, TOUCH_MM, keep_touching, rest_field, touching_pairs};
+use std::time::Instant;
+
+/// How far from the face region, along the skin, the change of the rest
+/// fades out (mm at the mask's scale). A face that is 5 mm wider than the
+/// stock one (between two adult faces, a common difference) then stretches
+/// the skin beside it by about 5/80, 6%, over a band as wide as the face
+/// is tall; the back of a head (the default avatar's crown is 120–150 mm
+/// from the face's outline) stays as it was.
+pub const REACH_MM: f64 = 80.0;
+
+/// Why the person's face could not be taken.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum TakeFaceError {
+    /// The neutral is not on the registered mask.
+    #[error("the scanned neutral has {got} vertices, the registered mask {expected}")]
+    NeutralSize {
+        /// The registered mask's vertices.
+        expected: usize,
+        /// The neutral's.
+        got: usize,
+    },
+    /// A neutral vertex is not finite.
+    #[error("the scanned neutral is not finite at mask vertex {0}")]
+    NotFinite(usize),
+    /// The region around the face could not be solved.
+    #[error("the head around the face could not be solved")]
+    Unsolved,
+}
+
+/// The avatar with the person's face at rest, and what it took.
+#[derive(Clone, Debug)]
+pub struct TakenFace {
+    /// The avatar with its rest moved (targets unchanged).
+    pub avatar: Avatar,
+    /// The registration moved with it: each mask vertex where the new
+    /// skin has its point (the map `M` is unchanged).
+    pub registration: FaceRegistration,
+    /// The change of every vertex's rest (avatar units, as
+    /// `Avatar::positions`).
+    pub moved: Vec<DVec3>,
+    /// How far the new rest passes from the scanned neutral at the mask's
+    /// vertices: mean and largest (mm, mask scale).
+    pub fit_mean_mm: f64,
+    /// See `fit_mean_mm`.
+    pub fit_max_mm: f64,
+    /// The largest change of a vertex (mm, mask scale).
+    pub largest_mm: f64,
+    /// Each eyeball as it followed its lids.
+    pub eyeballs: Vec<EyeFollowed>,
+    /// Time taken (s).
+    pub seconds: f64,
+}
+
+/// Gives `avatar` (found by `registration`) the rest face `neutral`: the
+/// person's scanned neutral on the mask, ARKit's face coordinates, metres
+/// (module docs).
+pub fn take_face(
+    avatar: &Avatar,
+    registration: &FaceRegistration,
+    neutral: &[DVec3],
+) -> Result<TakenFace, TakeFaceError> {
+    let started = Instant::now();
+    let expected = registration.mask_on_avatar.len();
+    if neutral.len() != expected {
+        return Err(TakeFaceError::NeutralSize {
+            expected,
+            got: neutral.len(),
+        });
+    }
+    if let Some(i) = neutral.iter().position(|p| !p.is_finite()) {
+        return Err(TakeFaceError::NotFinite(i));
+    }
+    let positions: Vec<DVec3> = avatar.positions().iter().map(|p| p.as_dvec3()).collect();
+    let n = positions.len();
+    let triangles = face_part_triangles(avatar, registration);
+    let s = registration.similarity;
+    let to_avatar = s.scale * 1e-3;
+    let points = skin_points(registration, &positions, &triangles);
+    let at = |point: &Option<([u32; 3], [f64; 3])>, field: &[DVec3]| {
+        point.map(|(t, b)| (0..3).map(|k| field[t[k] as usize] * b[k]).sum::<DVec3>())
+    };
+    let wanted: Vec<DVec3> = neutral.iter().map(|p| s.apply(*p)).collect();
+    let change_at_mask: Vec<DVec3> = points
+        .iter()
+        .zip(&wanted)
+        .zip(&registration.mask_on_avatar)
+        .map(|((point, q), registered)| *q - at(point, &positions).unwrap_or(*registered))
+        .collect();
+
+    // The skin: smooth through the points, zero beyond the reach.
+    let mut face = vec![false; n];
+    for f in &registration.map.face {
+        if let Some(x) = face.get_mut(f.vertex as usize) {
+            *x = true;
+        }
+    }
+    let region = within(&positions, &triangles, &face, REACH_MM * to_avatar);
+    let wanted_changes: Vec<PointChange> = points
+        .iter()
+        .zip(&change_at_mask)
+        .filter_map(|(point, d)| point.map(|(t, b)| (t, b, *d)))
+        .collect();
+    let ties = touching_pairs(&positions, &triangles, TOUCH_MM * to_avatar);
+    let mut field = rest_field(n, &triangles, &region, &wanted_changes, &ties)
+        .ok_or(TakeFaceError::Unsolved)?;
+    // Lips the person keeps closed stay exactly closed, and never pass
+    // through each other: a slide below what a capture can tell is no
+    // parting.
+    keep_touching(
+        &positions,
+        &mut field,
+        &triangles,
+        &ties,
+        STILL_MM * to_avatar,
+    );
+    // What the skin holds.
+    let eyeballs = follow_skin(avatar, &positions, registration, &mut field, to_avatar);
+
+    let mut taken = avatar.clone();
+    let offsets = avatar.vertex_offsets();
+    for (k, part) in taken.parts.iter_mut().enumerate() {
+        for (p, u) in part.positions.iter_mut().zip(&field[offsets[k]..]) {
+            *p += u.as_vec3();
+        }
+    }
+    let new_positions: Vec<DVec3> = positions.iter().zip(&field).map(|(p, u)| *p + *u).collect();
+    let mut moved_registration = registration.clone();
+    let mut fits = Vec::with_capacity(expected);
+    for (i, point) in points.iter().enumerate() {
+        let change = at(point, &field).unwrap_or(change_at_mask[i]);
+        moved_registration.mask_on_avatar[i] += change;
+        if let Some(p) = at(point, &new_positions) {
+            fits.push((p - wanted[i]).length() / to_avatar);
+        }
+    }
+    let largest = field.iter().map(|u| u.length()).fold(0.0, f64::max) / to_avatar;
+    Ok(TakenFace {
+        avatar: taken,
+        registration: moved_registration,
+        moved: field,
+        fit_mean_mm: fits.iter().sum::<f64>() / fits.len().max(1) as f64,
+        fit_max_mm: fits.iter().copied().fold(0.0, f64::max),
+        largest_mm: largest,
+        eyeballs,
+        seconds: started.elapsed().as_secs_f64(),
+    })
+}

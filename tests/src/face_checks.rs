@@ -1,0 +1,189 @@
+//! Issue 22's checks of an avatar that took the person's face at rest
+//! ([`likeness::avatar::person_face`]): how near the new rest passes to
+//! the scanned neutral, whether the border of the face region is strained
+//! more than its inside, whether the skin cuts through itself, whether a
+//! lid or a tooth shows where it must not, and whether the blinks close.
+
+use crate::avatar_quality::figures;
+use crate::seam::seam_statistics;
+use glam::{DVec3, Vec3};
+use likeness::avatar::Avatar;
+use likeness::avatar::own_shapes::{face_part_triangles, skin_points};
+use likeness::avatar::partial_transfer::eyelid_repair::depth;
+use likeness::avatar::personal_avatar::PersonalAvatar;
+use likeness::avatar::registration::FaceRegistration;
+use likeness::geometry::closest_point::TriangleGrid;
+use likeness::geometry::mesh_boundary::boundary_loops;
+pub use likeness::geometry::self_intersection::intersecting_pairs;
+use likeness::{Blendshape, Blendshapes, Topology};
+
+/// The figures of issue 22's point 2 for one person's avatar.
+#[derive(Clone, Debug)]
+pub struct FaceChecks {
+    /// Largest distance of the new rest from the scanned neutral at the
+    /// mask's vertices (mm, mask scale).
+    pub fit_max_mm: f64,
+    /// Mean edge strain of the rest change along the face region's border,
+    /// and in the ring just inside it.
+    pub border_strain: f64,
+    /// See `border_strain`.
+    pub inside_strain: f64,
+    /// Pairs of skin triangles that cut through each other at rest.
+    pub self_intersections: usize,
+    /// Deepest a skin vertex lies inside an eyeball at rest (mm).
+    pub lid_in_eyeball_rest_mm: f64,
+    /// Deepest a lid lies inside an eyeball in any shape where the
+    /// avatar's own shape keeps it out (mm), and the shape.
+    pub deepest_lid_mm: (f64, Blendshape),
+    /// Per blink: the share of the eyeball's front seen.
+    pub blinks: Vec<(Blendshape, f64)>,
+    /// Vertices of the teeth in front of the lips at rest
+    /// ([`teeth_in_front`]).
+    pub teeth_in_front: usize,
+}
+
+/// Measures `made` (the person's avatar on `stock`, which must have taken
+/// the face, `mask` the session's topology) against `person` (their
+/// personalized shapes); `teeth` are the
+/// avatar vertices of the teeth and gums.
+pub fn face_checks(
+    stock: &Avatar,
+    mask: &Topology,
+    made: &PersonalAvatar,
+    person: &Blendshapes,
+    teeth: &[u32],
+) -> FaceChecks {
+    let taken = made.taken_face.as_ref().expect("the face was taken");
+    let avatar = &taken.avatar;
+    let found = &taken.registration;
+    let s = found.similarity;
+    let to_mm = 1000.0 / s.scale;
+    let stock_rest: Vec<DVec3> = stock.positions().iter().map(|p| p.as_dvec3()).collect();
+    let rest: Vec<DVec3> = avatar.positions().iter().map(|p| p.as_dvec3()).collect();
+    let triangles = face_part_triangles(avatar, found);
+
+    // The fit, at the points the stock registration found.
+    let points = skin_points(&made.registration, &stock_rest, &triangles);
+    let fit_max_mm = points
+        .iter()
+        .zip(person.neutral())
+        .filter_map(|(p, q)| {
+            let (t, b) = (*p)?;
+            let at: DVec3 = (0..3).map(|k| rest[t[k] as usize] * b[k]).sum();
+            Some((at - s.apply(*q)).length() * to_mm)
+        })
+        .fold(0.0, f64::max);
+
+    // Strain of the rest change along the face's border.
+    let change: Vec<Vec3> = taken.moved.iter().map(|d| d.as_vec3()).collect();
+    let stock32: Vec<Vec3> = stock.positions();
+    let mut face = vec![false; rest.len()];
+    for f in &found.map.face {
+        face[f.vertex as usize] = true;
+    }
+    let bands = seam_statistics(&stock32, &triangles, &face, &change);
+
+    let eyeball_grids: Vec<TriangleGrid> = found
+        .eyeballs
+        .iter()
+        .map(|e| TriangleGrid::new(&rest, &avatar.triangles_within(e)))
+        .collect();
+    let in_eyeball: Vec<bool> = {
+        let mut f = vec![false; rest.len()];
+        for e in &found.eyeballs {
+            for &v in e {
+                f[v as usize] = true;
+            }
+        }
+        f
+    };
+    let skin: Vec<u32> = triangles.iter().flatten().copied().collect();
+    let lid_in_eyeball_rest_mm = skin
+        .iter()
+        .filter(|&&v| !in_eyeball[v as usize])
+        .flat_map(|&v| {
+            let p = rest[v as usize];
+            eyeball_grids.iter().map(move |g| depth(g, p))
+        })
+        .fold(0.0, f64::max)
+        * to_mm;
+
+    let implanted = made.implanted.as_ref().expect("personalized shapes");
+    let f = figures(avatar, found, implanted);
+    let teeth_in_front = teeth_in_front(&rest, found, mask, teeth);
+    FaceChecks {
+        fit_max_mm,
+        border_strain: bands[0].0,
+        inside_strain: bands[1].0,
+        self_intersections: self_intersections(&rest, &triangles),
+        lid_in_eyeball_rest_mm,
+        deepest_lid_mm: f.deepest_lid_mm,
+        blinks: f.blinks.iter().map(|(b, _, got)| (*b, *got)).collect(),
+        teeth_in_front,
+    }
+}
+
+/// The avatar's teeth and gums (avatar vertex indices): its parts whose
+/// names start with `teeth` or `gums`, as the default avatar names them.
+pub fn teeth_and_gums(avatar: &Avatar) -> Vec<u32> {
+    let offsets = avatar.vertex_offsets();
+    avatar
+        .parts
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| p.name.starts_with("teeth") || p.name.starts_with("gums"))
+        .flat_map(|(k, _)| offsets[k] as u32..offsets[k + 1] as u32)
+        .collect()
+}
+
+/// Pairs of `triangles` that cut through each other at `positions`
+/// ([`likeness::geometry::self_intersection`]).
+pub fn self_intersections(positions: &[DVec3], triangles: &[[u32; 3]]) -> usize {
+    intersecting_pairs(positions, triangles).len()
+}
+
+/// Teeth vertices (avatar indices, `rest` the avatar's rest) in front of
+/// the lips: in the mask's frame (`found` the registration on this rest),
+/// further forward (+z) than the nearer of the two lips where they meet,
+/// the rim of the mask's mouth hole, at the same height across the face
+/// (rim vertices within 3 mm in x). Teeth beyond the mouth's corners (no
+/// rim vertex that near) are behind the cheeks and are not counted.
+pub fn teeth_in_front(
+    rest: &[DVec3],
+    found: &FaceRegistration,
+    mask: &Topology,
+    teeth: &[u32],
+) -> usize {
+    let s = found.similarity;
+    let to_mask = |p: DVec3| s.rotation.transpose() * (p - s.translation) / s.scale;
+    let loops = boundary_loops(mask).expect("a mask with boundary loops");
+    let outline = (0..loops.len()).max_by_key(|&i| loops[i].len());
+    // The mouth: the lowest of the holes inside the outline.
+    let rim_at = |l: &Vec<u32>| {
+        l.iter()
+            .map(|&v| to_mask(found.mask_on_avatar[v as usize]))
+            .collect::<Vec<_>>()
+    };
+    let mouth = loops
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| Some(*i) != outline)
+        .map(|(_, l)| rim_at(l))
+        .min_by(|a, b| {
+            let y = |r: &Vec<DVec3>| r.iter().map(|p| p.y).sum::<f64>() / r.len() as f64;
+            y(a).total_cmp(&y(b))
+        })
+        .expect("a mouth hole");
+    teeth
+        .iter()
+        .filter(|&&v| {
+            let t = to_mask(rest[v as usize]);
+            let front = mouth
+                .iter()
+                .filter(|r| (r.x - t.x).abs() < 0.003)
+                .map(|r| r.z)
+                .fold(f64::INFINITY, f64::min);
+            front.is_finite() && t.z > front
+        })
+        .count()
+}

@@ -144,8 +144,11 @@ async function main() {
     const personal = join(scratch, 'subject-1.glb');
     await check('likeness writes the default avatar and subject 1 implanted into it', async () => {
       run('default-avatar', '--out', generic);
+      // The stock face kept, so that both sides are the same avatar before
+      // and after implanting (the person's own face is `likeness avatar`'s
+      // default on the default avatar, tested in tests/tests/person_face.rs).
       run('avatar', 'sim-data/sessions/subject-1.likeness', '--out', personal,
-        '--cache-dir', join(scratch, 'cache'));
+        '--cache-dir', join(scratch, 'cache'), '--keep-face');
       run('export', 'sim-data/sessions/subject-1.likeness', '--out', join(scratch, 'subject-1'));
     });
 

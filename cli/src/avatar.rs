@@ -7,9 +7,7 @@ use crate::CliResult;
 use crate::avatar_preview::PreviewInput;
 use crate::info::read_session;
 use likeness::Session;
-use likeness::avatar::glb::{
-    GlbAvatar, NewGlbOptions, new_avatar_glb, read_avatar, read_avatar_bytes,
-};
+use likeness::avatar::glb::{GlbAvatar, new_avatar_glb, read_avatar, read_avatar_bytes};
 use likeness::avatar::person_face::take_face;
 use likeness::avatar::personal_avatar::{
     AvatarShapes, AvatarStep, PersonInput, PersonalAvatar, RestFace, mask_glb, personal_avatar,
@@ -122,10 +120,7 @@ struct Timings {
 /// The default avatar as GLB bytes.
 fn default_glb_bytes(name: &Path) -> Result<Vec<u8>, Box<dyn std::error::Error>> {
     let built = likeness_sim::default_avatar::default_avatar();
-    let options = NewGlbOptions {
-        looks: likeness_sim::default_avatar::looks(&built.avatar),
-        ..NewGlbOptions::default()
-    };
+    let options = likeness_sim::default_avatar::glb_options(built);
     Ok(new_avatar_glb(&built.avatar, &options, name)?)
 }
 

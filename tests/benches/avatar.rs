@@ -6,7 +6,7 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use likeness::Blendshapes;
-use likeness::avatar::glb::{NewGlbOptions, new_avatar_glb, read_avatar_bytes};
+use likeness::avatar::glb::{new_avatar_glb, read_avatar_bytes};
 use likeness::avatar::person_face::take_face;
 use likeness::avatar::personal_avatar::{AvatarShapes, PersonInput, RestFace, personal_avatar};
 use likeness::avatar::registration::find_face;
@@ -47,10 +47,7 @@ fn avatar(c: &mut Criterion) {
             .shapes;
     let template = session.template.blendshapes().expect("a template");
     let found = find_face(&built.avatar, &session.topology, &template).expect("a face");
-    let options = NewGlbOptions {
-        looks: likeness_sim::default_avatar::looks(&built.avatar),
-        ..NewGlbOptions::default()
-    };
+    let options = likeness_sim::default_avatar::glb_options(built);
     let bytes = new_avatar_glb(&built.avatar, &options, Path::new("default.glb")).expect("encodes");
     let glb = read_avatar_bytes(&bytes, "default.glb").expect("reads");
     let input = PersonInput {

@@ -427,7 +427,7 @@ fn the_default_avatars_face_is_found_where_it_truly_is() {
             mean < 0.2 && max < 1.0,
             "{what}: map error mean {mean} max {max} mm"
         );
-        assert_eq!(found.eyeball_parts, built.eyes.to_vec(), "{what}");
+        assert_eq!(found.eyeball_parts, built.eye_parts(), "{what}");
     }
 }
 

@@ -170,6 +170,9 @@ pub fn full_body() -> (Vec<u8>, VariantTruth) {
     roots.push(root);
     glb.set_scene_roots(&roots);
     let mut truth = plain_truth(&avatar, 0, b.true_correspondence.len());
+    // Its eyes are the default's eyeballs alone (no iris or pupil parts).
+    truth.eyeball_parts = [4, 5];
+    truth.teeth_part = Some(6);
     truth.eyes_bone_driven = true;
     truth.skinned = true;
     truth.non_identity_bind_pose = true;

@@ -166,7 +166,8 @@ fn avatar() -> Avatar {
 pub fn lined_sockets() -> (Vec<u8>, VariantTruth) {
     let avatar = avatar();
     let mut truth = plain_truth(&avatar, 0, base().true_correspondence.len());
-    truth.eyeball_parts = [3, 4];
-    truth.teeth_part = Some(5);
+    // The sockets' part is gone into the skin's: the later parts move up one.
+    truth.eyeball_parts = base().eyes.map(|e| e - 1);
+    truth.teeth_part = Some(base().teeth[0] - 1);
     (glb_of(&avatar, None), truth)
 }

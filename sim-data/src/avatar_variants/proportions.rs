@@ -72,7 +72,7 @@ pub fn other_proportions() -> (Vec<u8>, VariantTruth) {
     let b = base();
     let mut avatar = b.avatar.clone();
     for (k, part) in avatar.parts.iter_mut().enumerate() {
-        if let Some(side) = b.eyes.iter().position(|&e| e == k) {
+        if let Some(side) = b.eye_side(k) {
             let c = b.eye_centres[side].as_dvec3();
             let shift = (warp(c) - c).as_vec3();
             part.positions.iter_mut().for_each(|p| *p += shift);

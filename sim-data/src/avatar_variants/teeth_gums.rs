@@ -59,7 +59,8 @@ pub fn teeth_gums_one_mesh() -> (Vec<u8>, VariantTruth) {
     let (avatar, lower) = avatar();
     let mut truth = plain_truth(&avatar, 0, base().true_correspondence.len());
     truth.teeth_share_mesh_with_gums = true;
-    truth.teeth_part = Some(6);
+    // The parts of meshes 0–2 (head, eyes), then the merged teeth.
+    truth.teeth_part = Some(avatar.parts.iter().filter(|p| p.mesh < 3).count());
     truth.jaw_moved_vertices = lower;
     let looks = vec![
         MeshLook::SKIN,

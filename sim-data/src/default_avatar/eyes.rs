@@ -154,3 +154,55 @@ pub fn socket(centre: DVec3) -> (Vec<DVec3>, Vec<[u32; 3]>) {
     }
     (positions, triangles)
 }
+
+/// Radius of the pupil (m): 3.8 mm across, an adult's pupil in ordinary
+/// indoor light (2–4 mm in bright light, up to 8 mm in the dark; Watson &
+/// Yellott, *A unified formula for light-adapted pupil size*, 2012).
+pub const PUPIL_RADIUS: f64 = 0.0019;
+/// Radius of the visible iris (m): 11.2 mm across, just inside the
+/// cornea's base ([`CORNEA_HALF_WIDTH`]), where the limbus lies.
+pub const IRIS_RADIUS: f64 = 0.0056;
+/// How far the iris and pupil lie outside the cornea (m): painted on it,
+/// clear of it in a depth buffer at arm's length, far inside
+/// `super::LID_CLEARANCE`.
+pub const PAINT_LIFT: f64 = 0.00005;
+
+/// The iris (a ring from [`PUPIL_RADIUS`] to [`IRIS_RADIUS`] about the
+/// visual axis) and the pupil (a disc of [`PUPIL_RADIUS`]), as two meshes
+/// on the cornea of the eye at `centre`, [`PAINT_LIFT`] outside it. Each
+/// has rings of [`SEGMENTS`] vertices at the given distances from the
+/// axis; the pupil also its centre.
+pub fn iris_and_pupil(centre: DVec3) -> [(Vec<DVec3>, Vec<[u32; 3]>); 2] {
+    let (k, rk) = (cornea_offset(), cornea_radius() + PAINT_LIFT);
+    let on_cornea = |rho: f64, phi: f64| {
+        let z = k + (rk * rk - rho * rho).sqrt();
+        centre + DVec3::new(rho * phi.cos(), rho * phi.sin(), z)
+    };
+    let rings = |radii: &[f64], first: u32| {
+        let mut positions = Vec::new();
+        for &rho in radii {
+            for j in 0..SEGMENTS {
+                positions.push(on_cornea(rho, TAU * j as f64 / SEGMENTS as f64));
+            }
+        }
+        let at = |r: usize, j: usize| first + (r * SEGMENTS + j % SEGMENTS) as u32;
+        let mut triangles = Vec::new();
+        for r in 0..radii.len() - 1 {
+            for j in 0..SEGMENTS {
+                triangles.push([at(r, j), at(r + 1, j), at(r + 1, j + 1)]);
+                triangles.push([at(r, j), at(r + 1, j + 1), at(r, j + 1)]);
+            }
+        }
+        (positions, triangles)
+    };
+    let iris_radii: Vec<f64> = (0..=4)
+        .map(|r| PUPIL_RADIUS + (IRIS_RADIUS - PUPIL_RADIUS) * r as f64 / 4.0)
+        .collect();
+    let iris = rings(&iris_radii, 0);
+    let (mut pupil_p, mut pupil_t) = rings(&[0.5 * PUPIL_RADIUS, PUPIL_RADIUS], 1);
+    pupil_p.insert(0, on_cornea(0.0, 0.0));
+    for j in 0..SEGMENTS {
+        pupil_t.push([0, 1 + j as u32, 1 + ((j + 1) % SEGMENTS) as u32]);
+    }
+    [iris, (pupil_p, pupil_t)]
+}

@@ -10,10 +10,12 @@
 //! | what | where | how |
 //! |---|---|---|
 //! | face skin | [`face`] | mask's parameter plane resampled (1.7 mm hex grid), each vertex at a barycentric point of a mask triangle |
+//! | lips' colour | [`lips`] | the red of the lips in the mask's parameter plane, a tint per skin vertex |
+//! | materials | [`looks`], [`part_looks`], [`PART_LOOKS`] | a plain PBR material per kind of part: skin, sockets, mouth lining, sclera, iris, pupil, teeth, gums, tongue |
 //! | skin and its shapes at any spacing | [`skin`] | face region and head joined at the outline, the template continued past it (the low-poly test avatar resamples it coarser) |
 //! | head, neck, shoulders | [`head`] | star-shaped implicit surface about `head::CENTRE`, rings 4.5 mm apart, joined to the face's outline |
 //! | ears | [`ears`] | pressed ellipsoid shells, roots sunk into the head |
-//! | eyeballs, sockets | [`eyes`] | 24 mm globe with an 11.5 mm cornea bulging 2.5 mm, placed as far forward as the lids allow; a 29 mm bowl behind each |
+//! | eyeballs, sockets | [`eyes`] | 24 mm globe with an 11.5 mm cornea bulging 2.5 mm, placed as far forward as the lids allow; an iris and a pupil painted on the cornea (their own parts); a 29 mm bowl behind each |
 //! | teeth, gums, tongue, mouth lining | [`mouth`] | 14 rounded-box crowns per jaw on a parabolic arch, tube gums, flattened ellipsoid tongue, an ellipsoid lining open towards the lips |
 //! | blendshapes | [`shapes`] | template interpolated on the face, continued past the outline; jaw, gaze and tongue motions |
 //!
@@ -25,6 +27,9 @@ pub mod ears;
 pub mod eyes;
 pub mod face;
 pub mod head;
+pub mod lips;
+#[cfg(test)]
+mod look_tests;
 pub mod mouth;
 pub mod shapes;
 pub mod skin;
@@ -65,8 +70,12 @@ pub struct DefaultAvatar {
     pub skin: usize,
     /// Index of the ears part.
     pub ears: usize,
-    /// Indices of the eyeball parts, `[left, right]`.
+    /// Indices of the eyeball parts (the globe and cornea, white),
+    /// `[left, right]`.
     pub eyes: [usize; 2],
+    /// Indices of the parts painted on each eye's cornea, `[left, right]`,
+    /// each `[iris, pupil]`; they turn with their eyeball.
+    pub irises: [[usize; 2]; 2],
     /// Index of the eye sockets' lining (in the head mesh, both sides).
     pub sockets: usize,
     /// Index of the mouth's lining (in the head mesh).
@@ -79,6 +88,9 @@ pub struct DefaultAvatar {
     pub tongue: usize,
     /// Centres of the eyeballs `[left, right]` (m).
     pub eye_centres: [Vec3; 2],
+    /// Share of the lips' colour at each skin vertex (0 on the skin, 1 on
+    /// the red of the lips; [`lips::lip_share`]).
+    pub lip_share: Vec<f32>,
     /// Radius of the eyeballs' globe (m); the cornea reaches
     /// `eyes::cornea_offset() + eyes::cornea_radius()` from the centre.
     pub eye_radius: f32,
@@ -88,6 +100,21 @@ pub struct DefaultAvatar {
 pub fn default_avatar() -> &'static DefaultAvatar {
     static AVATAR: OnceLock<DefaultAvatar> = OnceLock::new();
     AVATAR.get_or_init(build_default_avatar)
+}
+
+impl DefaultAvatar {
+    /// Every part of the two eyes (eyeballs, irises, pupils), increasing.
+    pub fn eye_parts(&self) -> Vec<usize> {
+        let mut parts: Vec<usize> = self.eyes.to_vec();
+        parts.extend(self.irises.iter().flatten());
+        parts.sort_unstable();
+        parts
+    }
+
+    /// The side (0 left, 1 right) of the eye a part belongs to, if any.
+    pub fn eye_side(&self, part: usize) -> Option<usize> {
+        (0..2).find(|&s| self.eyes[s] == part || self.irises[s].contains(&part))
+    }
 }
 
 /// The shapes that move a part, in ARKit's order.
@@ -199,6 +226,12 @@ fn build_default_avatar() -> DefaultAvatar {
     // Eyes.
     let all = Blendshape::ALL.to_vec();
     let skin_mesh = (skin.positions.clone(), skin.triangles.clone());
+    let mut lip_share: Vec<f32> = face
+        .uv
+        .iter()
+        .map(|uv| lips::lip_share(*uv) as f32)
+        .collect();
+    lip_share.resize(skin.positions.len(), 0.0);
     let mut parts = vec![part("skin", 0, 0, &skin_mesh, skin.targets.clone())];
     let ear_mesh = {
         let mut m: mouth::Mesh = (Vec::new(), Vec::new());
@@ -218,14 +251,22 @@ fn build_default_avatar() -> DefaultAvatar {
         let x = if side == 0 { 1.0 } else { -1.0 } * EYE_CENTRE[0];
         let centre = DVec3::new(x, EYE_CENTRE[1], eye_depth(side, face, face_t));
         *slot = centre.as_vec3();
-        let ball = eyes::eyeball(centre);
         let own = eye_shapes(side);
-        let targets = every_shape(ball.0.len(), |s| {
-            own.contains(&s)
-                .then(|| shapes::rotate_about(&ball.0, centre, shape_rotation(side, s)))
-        });
         let name = if side == 0 { "eyeLeft" } else { "eyeRight" };
-        eye_parts.push(part(name, 1 + side, 0, &ball, targets));
+        let [iris, pupil] = eyes::iris_and_pupil(centre);
+        let pieces = [
+            ("", eyes::eyeball(centre)),
+            ("Iris", iris),
+            ("Pupil", pupil),
+        ];
+        for (primitive, (suffix, piece)) in pieces.into_iter().enumerate() {
+            let targets = every_shape(piece.0.len(), |s| {
+                own.contains(&s)
+                    .then(|| shapes::rotate_about(&piece.0, centre, shape_rotation(side, s)))
+            });
+            let part_name = format!("{name}{suffix}");
+            eye_parts.push(part(&part_name, 1 + side, primitive, &piece, targets));
+        }
     }
     let sockets = {
         let mut m: mouth::Mesh = (Vec::new(), Vec::new());
@@ -287,18 +328,20 @@ fn build_default_avatar() -> DefaultAvatar {
         ears: 1,
         sockets: 2,
         mouth_cavity: 3,
-        eyes: [4, 5],
-        teeth: [6, 7],
-        gums: [8, 9],
-        tongue: 10,
+        eyes: [4, 7],
+        irises: [[5, 6], [8, 9]],
+        teeth: [10, 11],
+        gums: [12, 13],
+        tongue: 14,
         eye_centres,
+        lip_share,
         eye_radius: eyes::EYE_RADIUS as f32,
     }
 }
 
 /// The default avatar's materials, one per mesh in `avatar.meshes` order:
 /// skin for the head, white for the eyeballs, tooth for the teeth, gum pink
-/// for the gums and the tongue.
+/// for the gums and the tongue. [`part_looks`] refines them.
 pub fn looks(avatar: &Avatar) -> Vec<likeness::avatar::glb::MeshLook> {
     use likeness::avatar::glb::MeshLook;
     avatar
@@ -313,19 +356,79 @@ pub fn looks(avatar: &Avatar) -> Vec<likeness::avatar::glb::MeshLook> {
         .collect()
 }
 
+/// Plain materials (no textures) for the default avatar's parts, by part
+/// name: base colours are linear RGB, from photographs of each tissue
+/// under daylight turned linear, rounded; roughness from how glossy each
+/// looks (the wet cornea and tongue glossy, skin matte).
+pub const PART_LOOKS: [(&str, &str, [f32; 3], f32); 15] = [
+    ("skin", "skin", [0.80, 0.57, 0.46], 0.6),
+    ("ears", "skin", [0.80, 0.57, 0.46], 0.6),
+    ("sockets", "socket", [0.45, 0.20, 0.20], 0.5),
+    ("mouthCavity", "mouth", [0.35, 0.09, 0.10], 0.5),
+    ("eyeLeft", "sclera", [0.90, 0.88, 0.85], 0.15),
+    ("eyeRight", "sclera", [0.90, 0.88, 0.85], 0.15),
+    ("eyeLeftIris", "iris", [0.18, 0.10, 0.05], 0.1),
+    ("eyeRightIris", "iris", [0.18, 0.10, 0.05], 0.1),
+    ("eyeLeftPupil", "pupil", [0.01, 0.01, 0.01], 0.05),
+    ("eyeRightPupil", "pupil", [0.01, 0.01, 0.01], 0.05),
+    ("teethUpper", "teeth", [0.90, 0.88, 0.80], 0.3),
+    ("teethLower", "teeth", [0.90, 0.88, 0.80], 0.3),
+    ("gumsUpper", "gums", [0.75, 0.30, 0.33], 0.4),
+    ("gumsLower", "gums", [0.75, 0.30, 0.33], 0.4),
+    ("tongue", "tongue", [0.70, 0.25, 0.27], 0.35),
+];
+
+/// Each part's own material ([`PART_LOOKS`], by part name), in
+/// `avatar.parts` order.
+pub fn part_looks(avatar: &Avatar) -> Vec<Option<(String, likeness::avatar::glb::MeshLook)>> {
+    use likeness::avatar::glb::MeshLook;
+    avatar
+        .parts
+        .iter()
+        .map(|p| {
+            PART_LOOKS.iter().find(|l| l.0 == p.name).map(|l| {
+                let [r, g, b] = l.2;
+                (l.1.to_string(), MeshLook::plain([r, g, b, 1.0], l.3))
+            })
+        })
+        .collect()
+}
+
+/// Colour of the red of the lips (linear RGB), a tint over the skin's.
+pub const LIP_COLOUR: [f32; 3] = [0.56, 0.24, 0.24];
+
+/// How the default avatar is written as a GLB: [`looks`], [`part_looks`],
+/// the lips' colour as a tint of the skin's vertices ([`LIP_COLOUR`] over
+/// the skin's, by [`DefaultAvatar::lip_share`]), dense targets.
+pub fn glb_options(built: &DefaultAvatar) -> likeness::avatar::glb::NewGlbOptions {
+    let avatar = &built.avatar;
+    let part_looks = part_looks(avatar);
+    let skin_colour = PART_LOOKS[0].2;
+    let tint = Vec3::from(LIP_COLOUR) / Vec3::from(skin_colour);
+    let mut part_colours = vec![None; avatar.parts.len()];
+    part_colours[built.skin] = Some(
+        built
+            .lip_share
+            .iter()
+            .map(|&w| Vec3::ONE.lerp(tint, w))
+            .collect(),
+    );
+    likeness::avatar::glb::NewGlbOptions {
+        looks: looks(avatar),
+        part_looks,
+        part_colours,
+        ..Default::default()
+    }
+}
+
 /// The default avatar as the bytes of a GLB file, with its materials
 /// ([`looks`]): what `likeness default-avatar` writes and what the app
 /// personalizes when the person brings no avatar of their own.
 pub fn default_avatar_glb() -> Result<Vec<u8>, likeness::avatar::glb::GlbError> {
-    use likeness::avatar::glb::{NewGlbOptions, new_avatar_glb};
     let built = default_avatar();
-    let options = NewGlbOptions {
-        looks: looks(&built.avatar),
-        ..NewGlbOptions::default()
-    };
-    new_avatar_glb(
+    likeness::avatar::glb::new_avatar_glb(
         &built.avatar,
-        &options,
+        &glb_options(built),
         std::path::Path::new("default-avatar.glb"),
     )
 }

@@ -1,7 +1,8 @@
 //! Writing an [`Avatar`] as a new GLB: one glTF mesh per [`AvatarMesh`]
 //! (each placed by a node of its own at the origin, since the avatar is
 //! already in world space), one primitive per part, a plain PBR material
-//! per mesh in a colour the caller gives, and smooth vertex normals.
+//! per mesh, or per part where the caller gives a part its own, in a colour
+//! the caller gives, and smooth vertex normals.
 //!
 //! A vertex's normal is the sum of `(b − a) × (c − a)` over the triangles
 //! around it, normalized: each face weighs by twice its area, so slivers
@@ -59,8 +60,19 @@ impl MeshLook {
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct NewGlbOptions {
     /// The material of each mesh, in [`Avatar::meshes`] order; meshes past
-    /// the end are [`MeshLook::GREY`].
+    /// the end are [`MeshLook::GREY`]. The material takes the mesh's name.
     pub looks: Vec<MeshLook>,
+    /// A part's own material, in [`Avatar::parts`] order, where it is not
+    /// its mesh's: the material's name and look (an eye's iris and pupil,
+    /// the skin and the mouth's lining in one head mesh). Parts naming the
+    /// same material share it (its first look counts); parts past the end
+    /// or `None` take their mesh's.
+    pub part_looks: Vec<Option<(String, MeshLook)>>,
+    /// A part's vertex colours, in [`Avatar::parts`] order: linear RGB per
+    /// vertex, written as `COLOR_0`, which glTF multiplies into the
+    /// material's base colour (a tint: 1 keeps the material's colour). A
+    /// list of the wrong length is refused.
+    pub part_colours: Vec<Option<Vec<Vec3>>>,
     /// Dense or smallest targets.
     pub encoding: TargetEncoding,
 }
@@ -88,11 +100,17 @@ pub fn new_avatar_glb(
     check(avatar, file)?;
     let mut b = Builder::new();
     let mut meshes = Vec::new();
-    let mut materials = Vec::new();
+    let mut materials = Materials::default();
     for (m, mesh) in avatar.meshes.iter().enumerate() {
         let names = arkit_spelling(mesh);
+        let name = mesh.name.clone().unwrap_or_else(|| format!("mesh {m}"));
+        let mesh_look = options.looks.get(m).copied().unwrap_or(MeshLook::GREY);
         let mut primitives = Vec::new();
-        for part in avatar.parts.iter().filter(|p| p.mesh == m) {
+        for (k, part) in avatar.parts.iter().enumerate().filter(|(_, p)| p.mesh == m) {
+            let material = match options.part_looks.get(k) {
+                Some(Some((own, look))) => materials.index(own, *look),
+                _ => materials.index(&name, mesh_look),
+            };
             let position = b.vec3(&part.positions);
             let normal = b.vec3(&vertex_normals(&part.positions, &part.triangles));
             let indices = b.triangles(&part.triangles);
@@ -104,29 +122,29 @@ pub fn new_avatar_glb(
                 .collect();
             let mut p = json!({
                 "attributes": { "POSITION": position, "NORMAL": normal },
-                "indices": indices, "material": m, "mode": 4,
+                "indices": indices, "material": material, "mode": 4,
             });
+            if let Some(Some(colours)) = options.part_colours.get(k) {
+                if colours.len() != part.positions.len() || colours.iter().any(|c| !c.is_finite()) {
+                    return Err(GlbError::Write {
+                        file: file.to_path_buf(),
+                        what: format!("part {k}: not one finite colour per vertex"),
+                    });
+                }
+                p["attributes"]["COLOR_0"] = json!(b.vec3(colours));
+            }
             if !targets.is_empty() {
                 p["targets"] = Value::Array(targets);
                 p["extras"] = json!({ "targetNames": names });
             }
             primitives.push(p);
         }
-        let name = mesh.name.clone().unwrap_or_else(|| format!("mesh {m}"));
         let mut out = json!({ "name": name, "primitives": primitives });
         if !names.is_empty() {
             out["weights"] = json!(vec![0.0; names.len()]);
             out["extras"] = json!({ "targetNames": names });
         }
         meshes.push(out);
-        let look = options.looks.get(m).copied().unwrap_or(MeshLook::GREY);
-        materials.push(json!({
-            "name": name,
-            "pbrMetallicRoughness": {
-                "baseColorFactor": look.base_colour.map(f64::from),
-                "metallicFactor": look.metallic, "roughnessFactor": look.roughness,
-            },
-        }));
     }
     let nodes: Vec<Value> = meshes
         .iter()
@@ -137,7 +155,7 @@ pub fn new_avatar_glb(
         "asset": { "version": "2.0", "generator": "Likeness" },
         "scene": 0,
         "scenes": [{ "nodes": (0..nodes.len()).collect::<Vec<_>>() }],
-        "nodes": nodes, "meshes": meshes, "materials": materials,
+        "nodes": nodes, "meshes": meshes, "materials": materials.written,
         "accessors": b.accessors, "bufferViews": b.views,
     });
     if !b.bin.is_empty() {
@@ -148,6 +166,31 @@ pub fn new_avatar_glb(
         what: e.to_string(),
     })?;
     Ok(container::join(&text, &b.bin))
+}
+
+/// The materials written so far, by name, in the order first used.
+#[derive(Default)]
+struct Materials {
+    names: Vec<String>,
+    written: Vec<Value>,
+}
+
+impl Materials {
+    /// The index of the material `name`, written with `look` if new.
+    fn index(&mut self, name: &str, look: MeshLook) -> usize {
+        if let Some(i) = self.names.iter().position(|n| n == name) {
+            return i;
+        }
+        self.names.push(name.to_string());
+        self.written.push(json!({
+            "name": name,
+            "pbrMetallicRoughness": {
+                "baseColorFactor": look.base_colour.map(f64::from),
+                "metallicFactor": look.metallic, "roughnessFactor": look.roughness,
+            },
+        }));
+        self.names.len() - 1
+    }
 }
 
 /// Target names, in ARKit's spelling where they are ARKit's.

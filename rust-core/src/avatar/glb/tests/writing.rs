@@ -298,3 +298,59 @@ fn base64(bytes: &[u8]) -> String {
     }
     out
 }
+
+#[test]
+fn parts_get_their_own_materials_and_vertex_tints() {
+    let part = |primitive: usize, x: f32| AvatarPart {
+        name: format!("p{primitive}"),
+        mesh: 0,
+        primitive,
+        positions: vec![Vec3::new(x, 0.0, 0.0), Vec3::X, Vec3::Y],
+        triangles: vec![[0, 1, 2]],
+        targets: Vec::new(),
+    };
+    let avatar = Avatar {
+        meshes: vec![AvatarMesh {
+            name: Some("eye".into()),
+            target_names: Vec::new(),
+        }],
+        parts: vec![part(0, 0.0), part(1, 0.1), part(2, 0.2)],
+    };
+    let tint = vec![Vec3::ONE, Vec3::new(0.5, 0.2, 0.2), Vec3::ONE];
+    let options = NewGlbOptions {
+        looks: vec![MeshLook::EYE_WHITE],
+        part_looks: vec![None, Some(("iris".into(), MeshLook::GUM)), None],
+        part_colours: vec![None, Some(tint.clone())],
+        ..Default::default()
+    };
+    let bytes = new_avatar_glb(&avatar, &options, Path::new("e.glb")).unwrap();
+    let back = read_avatar_bytes(&bytes, "e.glb").unwrap();
+    let doc = back.json();
+    let names: Vec<&str> = doc["materials"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| m["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        names,
+        ["eye", "iris"],
+        "parts without their own share the mesh's"
+    );
+    let primitives = doc["meshes"][0]["primitives"].as_array().unwrap();
+    let materials: Vec<u64> = primitives
+        .iter()
+        .map(|p| p["material"].as_u64().unwrap())
+        .collect();
+    assert_eq!(materials, [0, 1, 0]);
+    let colour = primitives[1]["attributes"]["COLOR_0"].as_u64().unwrap() as usize;
+    assert_eq!(doc["accessors"][colour]["count"], 3);
+    assert!(primitives[0]["attributes"].get("COLOR_0").is_none());
+    // A tint list of the wrong length is refused, naming the part.
+    let wrong = NewGlbOptions {
+        part_colours: vec![Some(vec![Vec3::ONE])],
+        ..Default::default()
+    };
+    let err = new_avatar_glb(&avatar, &wrong, Path::new("e.glb")).unwrap_err();
+    assert!(err.to_string().contains("part 0"), "{err}");
+}

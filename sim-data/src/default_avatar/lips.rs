@@ -34,7 +34,8 @@ pub fn vermilion_border(u: f64, lip: usize) -> f64 {
 }
 
 /// How far the colour of the lips blends into the skin's across their
-/// border (m): the border is sharp on a face, so half a millimetre each way.
+/// border, each way (m): the border is sharp on a face, but a blend
+/// narrower than the face's 1.7 mm grid would show its triangles.
 pub const LIP_BLEND: f64 = 0.001;
 
 /// Share of the lips' colour at `uv`: 1 on the red of the lips, 0 on the

@@ -1,6 +1,5 @@
 //! Tests of how the default avatar looks: a material per kind of part,
-//! painted eyes, tinted lips. Each fails if that detail
-//! is lost.
+//! painted eyes, tinted lips. Each fails if that detail is lost.
 
 use super::*;
 use crate::face_mask::{MOUTH_CENTRE, MOUTH_HALF_WIDTH};

@@ -11,7 +11,7 @@
 //! |---|---|---|
 //! | face skin | [`face`] | mask's parameter plane resampled (1.7 mm hex grid), each vertex at a barycentric point of a mask triangle |
 //! | lips' colour | [`lips`] | the red of the lips in the mask's parameter plane, a tint per skin vertex |
-//! | materials | [`looks`], [`part_looks`], [`PART_LOOKS`] | a plain PBR material per kind of part: skin, sockets, mouth lining, sclera, iris, pupil, teeth, gums, tongue |
+//! | materials | [`looks`], [`part_looks`], [`MATERIALS`], [`PART_MATERIALS`] | a plain PBR material per kind of part: skin, sockets, mouth lining, sclera, iris, pupil, teeth, gums, tongue |
 //! | skin and its shapes at any spacing | [`skin`] | face region and head joined at the outline, the template continued past it (the low-poly test avatar resamples it coarser) |
 //! | head, neck, shoulders | [`head`] | star-shaped implicit surface about `head::CENTRE`, rings 4.5 mm apart, joined to the face's outline |
 //! | ears | [`ears`] | pressed ellipsoid shells, roots sunk into the head |
@@ -356,40 +356,57 @@ pub fn looks(avatar: &Avatar) -> Vec<likeness::avatar::glb::MeshLook> {
         .collect()
 }
 
-/// Plain materials (no textures) for the default avatar's parts, by part
-/// name: base colours are linear RGB, from photographs of each tissue
+/// The default avatar's plain materials (no textures): name, linear RGB
+/// base colour and roughness. Colours are from photographs of each tissue
 /// under daylight turned linear, rounded; roughness from how glossy each
 /// looks (the wet cornea and tongue glossy, skin matte).
-pub const PART_LOOKS: [(&str, &str, [f32; 3], f32); 15] = [
-    ("skin", "skin", [0.80, 0.57, 0.46], 0.6),
-    ("ears", "skin", [0.80, 0.57, 0.46], 0.6),
-    ("sockets", "socket", [0.45, 0.20, 0.20], 0.5),
-    ("mouthCavity", "mouth", [0.35, 0.09, 0.10], 0.5),
-    ("eyeLeft", "sclera", [0.90, 0.88, 0.85], 0.15),
-    ("eyeRight", "sclera", [0.90, 0.88, 0.85], 0.15),
-    ("eyeLeftIris", "iris", [0.18, 0.10, 0.05], 0.1),
-    ("eyeRightIris", "iris", [0.18, 0.10, 0.05], 0.1),
-    ("eyeLeftPupil", "pupil", [0.01, 0.01, 0.01], 0.05),
-    ("eyeRightPupil", "pupil", [0.01, 0.01, 0.01], 0.05),
-    ("teethUpper", "teeth", [0.90, 0.88, 0.80], 0.3),
-    ("teethLower", "teeth", [0.90, 0.88, 0.80], 0.3),
-    ("gumsUpper", "gums", [0.75, 0.30, 0.33], 0.4),
-    ("gumsLower", "gums", [0.75, 0.30, 0.33], 0.4),
-    ("tongue", "tongue", [0.70, 0.25, 0.27], 0.35),
+pub const MATERIALS: [(&str, [f32; 3], f32); 9] = [
+    ("skin", [0.80, 0.57, 0.46], 0.6),
+    ("socket", [0.45, 0.20, 0.20], 0.5),
+    ("mouth", [0.35, 0.09, 0.10], 0.5),
+    ("sclera", [0.90, 0.88, 0.85], 0.15),
+    ("iris", [0.18, 0.10, 0.05], 0.1),
+    ("pupil", [0.01, 0.01, 0.01], 0.05),
+    ("teeth", [0.90, 0.88, 0.80], 0.3),
+    ("gums", [0.75, 0.30, 0.33], 0.4),
+    ("tongue", [0.70, 0.25, 0.27], 0.35),
 ];
 
-/// Each part's own material ([`PART_LOOKS`], by part name), in
-/// `avatar.parts` order.
-pub fn part_looks(avatar: &Avatar) -> Vec<Option<(String, likeness::avatar::glb::MeshLook)>> {
+/// Which of [`MATERIALS`] each of the default avatar's parts wears, by
+/// part name.
+pub const PART_MATERIALS: [(&str, &str); 15] = [
+    ("skin", "skin"),
+    ("ears", "skin"),
+    ("sockets", "socket"),
+    ("mouthCavity", "mouth"),
+    ("eyeLeft", "sclera"),
+    ("eyeRight", "sclera"),
+    ("eyeLeftIris", "iris"),
+    ("eyeRightIris", "iris"),
+    ("eyeLeftPupil", "pupil"),
+    ("eyeRightPupil", "pupil"),
+    ("teethUpper", "teeth"),
+    ("teethLower", "teeth"),
+    ("gumsUpper", "gums"),
+    ("gumsLower", "gums"),
+    ("tongue", "tongue"),
+];
+
+/// The material of [`MATERIALS`] named `name`: its base colour and look.
+fn material(name: &str) -> Option<([f32; 3], likeness::avatar::glb::MeshLook)> {
     use likeness::avatar::glb::MeshLook;
+    let (_, [r, g, b], roughness) = MATERIALS.iter().find(|m| m.0 == name)?;
+    Some(([*r, *g, *b], MeshLook::plain([*r, *g, *b, 1.0], *roughness)))
+}
+
+/// Each part's own material ([`PART_MATERIALS`]), in `avatar.parts` order.
+pub fn part_looks(avatar: &Avatar) -> Vec<Option<(String, likeness::avatar::glb::MeshLook)>> {
     avatar
         .parts
         .iter()
         .map(|p| {
-            PART_LOOKS.iter().find(|l| l.0 == p.name).map(|l| {
-                let [r, g, b] = l.2;
-                (l.1.to_string(), MeshLook::plain([r, g, b, 1.0], l.3))
-            })
+            let (_, name) = PART_MATERIALS.iter().find(|m| m.0 == p.name)?;
+            Some((name.to_string(), material(name)?.1))
         })
         .collect()
 }
@@ -403,7 +420,7 @@ pub const LIP_COLOUR: [f32; 3] = [0.56, 0.24, 0.24];
 pub fn glb_options(built: &DefaultAvatar) -> likeness::avatar::glb::NewGlbOptions {
     let avatar = &built.avatar;
     let part_looks = part_looks(avatar);
-    let skin_colour = PART_LOOKS[0].2;
+    let skin_colour = material("skin").map_or([1.0; 3], |m| m.0);
     let tint = Vec3::from(LIP_COLOUR) / Vec3::from(skin_colour);
     let mut part_colours = vec![None; avatar.parts.len()];
     part_colours[built.skin] = Some(

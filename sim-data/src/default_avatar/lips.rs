@@ -35,8 +35,9 @@ pub fn vermilion_border(u: f64, lip: usize) -> f64 {
 
 /// How far the colour of the lips blends into the skin's across their
 /// border, each way (m): the border is sharp on a face, but a blend
-/// narrower than the face's 1.7 mm grid would show its triangles.
-pub const LIP_BLEND: f64 = 0.001;
+/// narrower than the face's 1.7 mm grid shows its triangles as steps
+/// along the border, so it spans one grid step each way.
+pub const LIP_BLEND: f64 = 0.0017;
 
 /// Share of the lips' colour at `uv`: 1 on the red of the lips, 0 on the
 /// skin, blending across the border over ±[`LIP_BLEND`].

@@ -10,6 +10,8 @@
 //! | what | where | how |
 //! |---|---|---|
 //! | face skin | [`face`] | mask's parameter plane resampled (1.7 mm hex grid), each vertex at a barycentric point of a mask triangle |
+//! | nostrils | [`nostrils`] | two dark ovals painted on the nose's underside, a tint per skin vertex |
+//! | shading | [`shading`] | the mask's vertex normals interpolated on the face (Phong), the head's own, blended across the outline |
 //! | lips' colour | [`lips`] | the red of the lips in the mask's parameter plane, a tint per skin vertex |
 //! | materials | [`looks`], [`part_looks`], [`MATERIALS`], [`PART_MATERIALS`] | a plain PBR material per kind of part: skin, sockets, mouth lining, sclera, iris, pupil, teeth, gums, tongue |
 //! | skin and its shapes at any spacing | [`skin`] | face region and head joined at the outline, the template continued past it (the low-poly test avatar resamples it coarser) |
@@ -31,6 +33,8 @@ pub mod lips;
 #[cfg(test)]
 mod look_tests;
 pub mod mouth;
+pub mod nostrils;
+pub mod shading;
 pub mod shapes;
 pub mod skin;
 #[cfg(test)]
@@ -91,6 +95,13 @@ pub struct DefaultAvatar {
     /// Share of the lips' colour at each skin vertex (0 on the skin, 1 on
     /// the red of the lips; [`lips::lip_share`]).
     pub lip_share: Vec<f32>,
+    /// Share of the nostrils' colour at each skin vertex
+    /// ([`nostrils::nostril_share`]).
+    pub nostril_share: Vec<f32>,
+    /// The skin's shading normals, one per skin vertex
+    /// ([`shading::skin_normals`]: the mask's normals interpolated on the
+    /// face, the head's own, blended at the outline).
+    pub skin_normals: Vec<Vec3>,
     /// Radius of the eyeballs' globe (m); the cornea reaches
     /// `eyes::cornea_offset() + eyes::cornea_radius()` from the centre.
     pub eye_radius: f32,
@@ -226,12 +237,14 @@ fn build_default_avatar() -> DefaultAvatar {
     // Eyes.
     let all = Blendshape::ALL.to_vec();
     let skin_mesh = (skin.positions.clone(), skin.triangles.clone());
-    let mut lip_share: Vec<f32> = face
-        .uv
-        .iter()
-        .map(|uv| lips::lip_share(*uv) as f32)
-        .collect();
-    lip_share.resize(skin.positions.len(), 0.0);
+    // A share per skin vertex from the face's parameter plane, 0 on the head.
+    let paint = |share: fn([f64; 2]) -> f64| -> Vec<f32> {
+        let mut out: Vec<f32> = face.uv.iter().map(|uv| share(*uv) as f32).collect();
+        out.resize(skin.positions.len(), 0.0);
+        out
+    };
+    let lip_share = paint(lips::lip_share);
+    let nostril_share = paint(nostrils::nostril_share);
     let mut parts = vec![part("skin", 0, 0, &skin_mesh, skin.targets.clone())];
     let ear_mesh = {
         let mut m: mouth::Mesh = (Vec::new(), Vec::new());
@@ -335,6 +348,13 @@ fn build_default_avatar() -> DefaultAvatar {
         tongue: 14,
         eye_centres,
         lip_share,
+        nostril_share,
+        skin_normals: shading::skin_normals(
+            &skin.positions,
+            &skin.triangles,
+            &face.on_mask,
+            &face.rim,
+        ),
         eye_radius: eyes::EYE_RADIUS as f32,
     }
 }
@@ -414,26 +434,37 @@ pub fn part_looks(avatar: &Avatar) -> Vec<Option<(String, likeness::avatar::glb:
 /// Colour of the red of the lips (linear RGB), a tint over the skin's.
 pub const LIP_COLOUR: [f32; 3] = [0.56, 0.24, 0.24];
 
+/// Colour of the nostrils (linear RGB), a tint over the skin's: the
+/// shadowed inside of the nose, dark and a little red.
+pub const NOSTRIL_COLOUR: [f32; 3] = [0.10, 0.04, 0.04];
+
 /// How the default avatar is written as a GLB: [`looks`], [`part_looks`],
-/// the lips' colour as a tint of the skin's vertices ([`LIP_COLOUR`] over
-/// the skin's, by [`DefaultAvatar::lip_share`]), dense targets.
+/// the lips' and nostrils' colours as a tint of the skin's vertices
+/// ([`LIP_COLOUR`] and [`NOSTRIL_COLOUR`] over the skin's, by
+/// [`DefaultAvatar::lip_share`] and [`DefaultAvatar::nostril_share`]), the skin's shading
+/// normals ([`DefaultAvatar::skin_normals`]), dense targets.
 pub fn glb_options(built: &DefaultAvatar) -> likeness::avatar::glb::NewGlbOptions {
     let avatar = &built.avatar;
     let part_looks = part_looks(avatar);
     let skin_colour = material("skin").map_or([1.0; 3], |m| m.0);
-    let tint = Vec3::from(LIP_COLOUR) / Vec3::from(skin_colour);
+    let lip = Vec3::from(LIP_COLOUR) / Vec3::from(skin_colour);
+    let nostril = Vec3::from(NOSTRIL_COLOUR) / Vec3::from(skin_colour);
     let mut part_colours = vec![None; avatar.parts.len()];
     part_colours[built.skin] = Some(
         built
             .lip_share
             .iter()
-            .map(|&w| Vec3::ONE.lerp(tint, w))
+            .zip(&built.nostril_share)
+            .map(|(&l, &n)| Vec3::ONE.lerp(lip, l).lerp(nostril, n))
             .collect(),
     );
+    let mut part_normals = vec![None; avatar.parts.len()];
+    part_normals[built.skin] = Some(built.skin_normals.clone());
     likeness::avatar::glb::NewGlbOptions {
         looks: looks(avatar),
         part_looks,
         part_colours,
+        part_normals,
         ..Default::default()
     }
 }

@@ -2,7 +2,8 @@
 //! (each placed by a node of its own at the origin, since the avatar is
 //! already in world space), one primitive per part, a plain PBR material
 //! per mesh, or per part where the caller gives a part its own, in a colour
-//! the caller gives, and smooth vertex normals.
+//! the caller gives, and smooth vertex normals: the caller's shading normals
+//! where it gives a part its own, else the surface's.
 //!
 //! A vertex's normal is the sum of `(b − a) × (c − a)` over the triangles
 //! around it, normalized: each face weighs by twice its area, so slivers
@@ -73,6 +74,12 @@ pub struct NewGlbOptions {
     /// material's base colour (a tint: 1 keeps the material's colour). A
     /// list of the wrong length is refused.
     pub part_colours: Vec<Option<Vec<Vec3>>>,
+    /// A part's own shading normals, in [`Avatar::parts`] order: a unit
+    /// vector per vertex, written as `NORMAL` in place of the surface's
+    /// area-weighted normals (a surface sampled from a coarser one shades
+    /// smoothly with the coarser one's normals interpolated). A list of the
+    /// wrong length, or a normal not of unit length, is refused.
+    pub part_normals: Vec<Option<Vec<Vec3>>>,
     /// Dense or smallest targets.
     pub encoding: TargetEncoding,
 }
@@ -112,7 +119,19 @@ pub fn new_avatar_glb(
                 _ => materials.index(&name, mesh_look),
             };
             let position = b.vec3(&part.positions);
-            let normal = b.vec3(&vertex_normals(&part.positions, &part.triangles));
+            let normal = match options.part_normals.get(k) {
+                Some(Some(own)) => {
+                    let unit = |n: &Vec3| (n.length() - 1.0).abs() < 1e-3;
+                    if own.len() != part.positions.len() || !own.iter().all(unit) {
+                        return Err(GlbError::Write {
+                            file: file.to_path_buf(),
+                            what: format!("part {k}: not one unit normal per vertex"),
+                        });
+                    }
+                    b.vec3(own)
+                }
+                _ => b.vec3(&vertex_normals(&part.positions, &part.triangles)),
+            };
             let indices = b.triangles(&part.triangles);
             let targets: Vec<Value> = part
                 .targets

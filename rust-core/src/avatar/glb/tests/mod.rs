@@ -102,6 +102,20 @@ pub(super) fn fixture() -> (Value, Vec<u8>) {
     (doc, b.bin)
 }
 
+/// The floats of a dense float accessor of `g`.
+pub(super) fn floats(g: &GlbAvatar, accessor: &Value) -> Vec<f32> {
+    let a = &g.json()["accessors"][accessor.as_u64().unwrap() as usize];
+    let view = &g.json()["bufferViews"][a["bufferView"].as_u64().unwrap() as usize];
+    let start = view["byteOffset"].as_u64().unwrap_or(0) as usize
+        + a["byteOffset"].as_u64().unwrap_or(0) as usize;
+    let width = if a["type"] == "VEC4" { 4 } else { 3 };
+    let count = a["count"].as_u64().unwrap() as usize * width;
+    g.buffers()[0][start..start + 4 * count]
+        .chunks_exact(4)
+        .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        .collect()
+}
+
 fn glb(doc: &Value, bin: &[u8]) -> Vec<u8> {
     join(&serde_json::to_vec(doc).unwrap(), bin)
 }

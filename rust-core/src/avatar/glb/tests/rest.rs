@@ -22,20 +22,6 @@ fn push_floats(doc: &mut Value, bin: &mut Vec<u8>, values: &[f32], kind: &str) -
     accessors.len() - 1
 }
 
-/// The floats of a dense float accessor of `g`.
-fn floats(g: &GlbAvatar, accessor: &Value) -> Vec<f32> {
-    let a = &g.json()["accessors"][accessor.as_u64().unwrap() as usize];
-    let view = &g.json()["bufferViews"][a["bufferView"].as_u64().unwrap() as usize];
-    let start = view["byteOffset"].as_u64().unwrap_or(0) as usize
-        + a["byteOffset"].as_u64().unwrap_or(0) as usize;
-    let width = if a["type"] == "VEC4" { 4 } else { 3 };
-    let count = a["count"].as_u64().unwrap() as usize * width;
-    g.buffers()[0][start..start + 4 * count]
-        .chunks_exact(4)
-        .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-        .collect()
-}
-
 #[test]
 fn a_new_rest_replaces_positions_and_turns_normals_with_the_surface() {
     let (mut doc, mut bin) = fixture();

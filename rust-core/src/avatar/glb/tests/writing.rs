@@ -354,3 +354,59 @@ fn parts_get_their_own_materials_and_vertex_tints() {
     let err = new_avatar_glb(&avatar, &wrong, Path::new("e.glb")).unwrap_err();
     assert!(err.to_string().contains("part 0"), "{err}");
 }
+
+#[test]
+fn parts_given_shading_normals_keep_them_and_bad_ones_are_refused() {
+    let avatar = Avatar {
+        meshes: vec![AvatarMesh {
+            name: Some("skin".into()),
+            target_names: Vec::new(),
+        }],
+        parts: vec![AvatarPart {
+            name: "skin".into(),
+            mesh: 0,
+            primitive: 0,
+            positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y],
+            triangles: vec![[0, 1, 2]],
+            targets: Vec::new(),
+        }],
+    };
+    // The flat triangle's own normal is +z everywhere; a surface it was
+    // sampled from leans its corners outwards.
+    let own = [
+        Vec3::new(-0.3, -0.3, 1.0),
+        Vec3::new(0.3, 0.0, 1.0),
+        Vec3::new(0.0, 0.3, 1.0),
+    ]
+    .map(Vec3::normalize)
+    .to_vec();
+    let with = |normals: Vec<Vec3>| NewGlbOptions {
+        part_normals: vec![Some(normals)],
+        ..Default::default()
+    };
+    let bytes = new_avatar_glb(&avatar, &with(own.clone()), Path::new("s.glb")).unwrap();
+    let back = read_avatar_bytes(&bytes, "s.glb").unwrap();
+    let written = floats(
+        &back,
+        &back.json()["meshes"][0]["primitives"][0]["attributes"]["NORMAL"],
+    );
+    assert_eq!(
+        written,
+        own.iter().flat_map(|n| n.to_array()).collect::<Vec<_>>()
+    );
+    // Without them, the surface's own.
+    let plain = new_avatar_glb(&avatar, &NewGlbOptions::default(), Path::new("s.glb")).unwrap();
+    let plain = read_avatar_bytes(&plain, "s.glb").unwrap();
+    let flat = floats(
+        &plain,
+        &plain.json()["meshes"][0]["primitives"][0]["attributes"]["NORMAL"],
+    );
+    assert_eq!(flat, [0.0, 0.0, 1.0].repeat(3));
+    for bad in [own[..2].to_vec(), vec![Vec3::Z, Vec3::Z, 2.0 * Vec3::Z]] {
+        let err = new_avatar_glb(&avatar, &with(bad), Path::new("s.glb")).unwrap_err();
+        assert!(
+            err.to_string().contains("part 0: not one unit normal"),
+            "{err}"
+        );
+    }
+}

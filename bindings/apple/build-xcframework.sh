@@ -78,20 +78,20 @@ cargo build --quiet -p uniffi-bindgen
 export IPHONEOS_DEPLOYMENT_TARGET=16.0
 
 for triple in "$device" "${simulators[@]}"; do
-    say "building the static library for $triple (release)"
-    cargo rustc --quiet --release -p likeness-ffi --lib --target "$triple" --crate-type staticlib
-    [[ -f "$target/$triple/release/liblikeness_ffi.a" ]] ||
-        fail "no $target/$triple/release/liblikeness_ffi.a after the build"
+    say "building the static library for $triple (profile phone: small, whole-program optimized)"
+    cargo rustc --quiet --profile phone -p likeness-ffi --lib --target "$triple" --crate-type staticlib
+    [[ -f "$target/$triple/phone/liblikeness_ffi.a" ]] ||
+        fail "no $target/$triple/phone/liblikeness_ffi.a after the build"
 done
 
 work="$target/apple"
 rm -rf "$work"
 mkdir -p "$work/device" "$work/simulator" "$work/swift"
-cp "$target/$device/release/liblikeness_ffi.a" "$work/device/"
+cp "$target/$device/phone/liblikeness_ffi.a" "$work/device/"
 say "joining the simulator slices with lipo"
 lipo -create \
-    "$target/${simulators[0]}/release/liblikeness_ffi.a" \
-    "$target/${simulators[1]}/release/liblikeness_ffi.a" \
+    "$target/${simulators[0]}/phone/liblikeness_ffi.a" \
+    "$target/${simulators[1]}/phone/liblikeness_ffi.a" \
     -output "$work/simulator/liblikeness_ffi.a"
 
 say "generating the Swift bindings"

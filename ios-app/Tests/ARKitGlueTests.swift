@@ -36,6 +36,11 @@ final class ARKitGlueTests: XCTestCase {
         XCTAssertEqual(ARKitGlue.packed([]).count, 0)
     }
 
+    func testFlatValuesPackLikeVertices() {
+        XCTAssertEqual(ARKitGlue.packed(flat: [1, 2, 3, -4, 5, -6]), ARKitGlue.packed([SIMD3(1, 2, 3), SIMD3(-4, 5, -6)]))
+        XCTAssertEqual(ARKitGlue.packed(flat: []).count, 0)
+    }
+
     func testTriangleIndicesBecomeUnsigned32Bit() {
         XCTAssertEqual(ARKitGlue.triangleIndices([0, 1, 1219, Int16.max]), [0, 1, 1219, 32767])
         // The bit pattern is kept: an index past Int16.max is not negative.

@@ -26,8 +26,8 @@ APPLE_NAMES = frozenset(
 
     Bundle Data Date DateFormatter DispatchQueue FileAttributeKey FileManager
     FileProtectionType JSONDecoder JSONEncoder Locale LocalizedError NSError
-    NSLock NSLocalizedDescriptionKey NSNumber NSObject NSString Notification
-    NotificationCenter ProcessInfo URL UUID
+    NSCondition NSLock NSLocalizedDescriptionKey NSNumber NSObject NSString
+    Notification NotificationCenter ProcessInfo Thread URL UUID UTType
 
     ARAnchor ARConfiguration ARError ARFaceAnchor ARFaceGeometry
     ARFaceTrackingConfiguration ARFrame ARSCNFaceGeometry ARSCNView
@@ -35,12 +35,12 @@ APPLE_NAMES = frozenset(
     ARTrackable
 
     SCNCamera SCNGeometry SCNGeometryElement SCNGeometrySource SCNLight
-    SCNMaterial SCNNode SCNScene SCNSceneRenderer SCNTransaction SCNMatrix4MakeTranslation SCNVector3
+    SCNMaterial SCNMorpher SCNNode SCNScene SCNSceneRenderer SCNTransaction SCNMatrix4MakeTranslation SCNVector3
     SCNView SceneKit
 
-    CGFloat CGPoint CGRect CGSize UIActivityViewController UIApplication UIColor
-    UIView UIViewController UIViewControllerRepresentable UIViewRepresentable
-    UIKit
+    CGFloat CGPoint CGRect CGSize UIActivityViewController UIApplication
+    UIBackgroundTaskIdentifier UIColor UIView UIViewController
+    UIViewControllerRepresentable UIViewRepresentable UIKit
 
     Alignment Animation App AnyView Binding Button ButtonStyle Capsule Circle
     Color Context Divider EdgeInsets EmptyView Environment Font ForEach Form

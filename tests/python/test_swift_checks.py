@@ -81,15 +81,16 @@ def test_the_generated_bindings_hold_the_whole_surface():
     bindings = swift_checks.load_bindings(GENERATED_BINDINGS)
     assert set(bindings.functions) == {"arkitNames", "arkitKeys", "coreVersion", "methods", "defaultMethod"}
     methods = {name: set(t.methods) for name, t in bindings.types.items()}
-    assert methods["CaptureSession"] == {"start", "pushFrame", "pushFramePacked", "skip", "retake", "progress",
-                                         "currentPrompt", "isFinished", "promptPreview", "captures", "finish"}
+    assert methods["CaptureSession"] == {"start", "pushFrame", "pushFramePacked", "skip", "retake", "interrupt",
+                                         "progress", "currentPrompt", "isFinished", "promptPreview", "captures",
+                                         "finish"}
     assert methods["SessionHandle"] == {"load", "save", "qualitySummary", "personalize", "template",
                                         "recordedFrameCount", "recordedFrame"}
     assert methods["PersonalizedFace"] == {"method", "triangles", "pose", "maskGlb", "avatar"}
-    assert methods["AvatarPreview"] == {"triangles", "focus", "shapesFound", "pose"}
+    assert methods["AvatarPreview"] == {"triangles", "focus", "morphMesh", "shapesFound", "pose"}
     assert methods["ProgressListener"] == {"onProgress", "isCancelled"}
     assert set(bindings.types["CaptureEvent"].cases) == {"promptStarted", "captured", "skipped", "trackingLost",
-                                                         "trackingResumed", "finished"}
+                                                         "trackingResumed", "limitReached", "finished"}
     assert set(bindings.types["LikenessError"].cases) == {"InvalidInput", "File", "Capture", "Personalization",
                                                           "Avatar", "WrongOrder", "Cancelled", "Internal"}
     assert set(bindings.types["Prompt"].fields) == {"index", "total", "name", "instruction", "isNeutral"}

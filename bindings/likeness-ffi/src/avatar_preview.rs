@@ -3,7 +3,9 @@
 
 use crate::error::LikenessError;
 use crate::personalized::GIVEN_AVATAR;
-use crate::types::flat;
+use crate::types::{flat, packed};
+use glam::Vec3;
+use likeness::arkit::Blendshape;
 use likeness::avatar::avatar_pose::AvatarPose;
 use likeness::avatar::glb::read_avatar_bytes;
 use std::sync::Arc;
@@ -19,6 +21,24 @@ pub struct PreviewFocus {
     pub z: f32,
     /// Half the diagonal of the box around it.
     pub radius: f32,
+}
+
+/// The avatar as one morphable mesh ([`AvatarPreview::morph_mesh`]).
+#[derive(Clone, Debug, PartialEq, uniffi::Record)]
+pub struct PreviewMesh {
+    /// Rest vertices, `f32` x, y, z after x, y, z (12 bytes a vertex).
+    pub positions: Vec<u8>,
+    /// Rest normals, packed as `positions`.
+    pub normals: Vec<u8>,
+    /// Triangles, `u32` vertex indices, three a triangle.
+    pub triangles: Vec<u8>,
+    /// One per ARKit shape in `arkitNames()` order: every vertex's
+    /// displacement at weight one, packed as `positions`; empty for a shape
+    /// the avatar lacks.
+    pub position_targets: Vec<Vec<u8>>,
+    /// One per ARKit shape, as `position_targets`: how each vertex normal
+    /// changes at weight one.
+    pub normal_targets: Vec<Vec<u8>>,
 }
 
 /// An avatar GLB (for example `AvatarResult.glb`) ready to be posed by ARKit
@@ -40,20 +60,56 @@ impl AvatarPreview {
     }
 
     /// Every mesh's triangles, three indices each into `pose`'s vertices.
-    pub fn triangles(&self) -> Vec<u32> {
-        self.pose.triangles().iter().flatten().copied().collect()
+    pub fn triangles(&self) -> Result<Vec<u32>, LikenessError> {
+        Ok(self.pose.triangles().iter().flatten().copied().collect())
     }
 
     /// Where to point a camera: the centre and radius of the part of the
     /// avatar that its ARKit shapes move (its face), in the file's units.
-    pub fn focus(&self) -> PreviewFocus {
+    pub fn focus(&self) -> Result<PreviewFocus, LikenessError> {
         let (centre, radius) = self.pose.focus();
-        PreviewFocus {
+        Ok(PreviewFocus {
             x: centre.x,
             y: centre.y,
             z: centre.z,
             radius,
-        }
+        })
+    }
+
+    /// The whole avatar as one mesh with its 52 ARKit shapes as morph
+    /// targets, for an engine to play (SceneKit's `SCNMorpher` in additive
+    /// mode): called once, after which a frame sets only the 52 weights and
+    /// nothing crosses the boundary. Everything is packed as
+    /// little-endian 32-bit values.
+    pub fn morph_mesh(&self) -> Result<PreviewMesh, LikenessError> {
+        let shapes = Blendshape::ALL;
+        let found = self.pose.arkit_targets();
+        let target = |shape: Blendshape, field: &dyn Fn(Blendshape) -> Vec<Vec3>| match found
+            .of(shape)
+            .is_empty()
+        {
+            true => Vec::new(),
+            false => packed(&field(shape)),
+        };
+        Ok(PreviewMesh {
+            positions: packed(self.pose.rest()),
+            normals: packed(&self.pose.rest_normals()),
+            triangles: self
+                .pose
+                .triangles()
+                .iter()
+                .flatten()
+                .flat_map(|i| i.to_le_bytes())
+                .collect(),
+            position_targets: shapes
+                .iter()
+                .map(|&s| target(s, &|s| self.pose.displacement(s)))
+                .collect(),
+            normal_targets: shapes
+                .iter()
+                .map(|&s| target(s, &|s| self.pose.normal_change(s)))
+                .collect(),
+        })
     }
 
     /// How many of ARKit's 52 shapes the avatar has.

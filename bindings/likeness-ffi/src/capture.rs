@@ -38,8 +38,17 @@ pub enum CaptureEvent {
     TrackingLost,
     /// This frame is the first with a tracked face again.
     TrackingResumed,
-    /// No step is left; `finish` may be called (a retake may still come
-    /// first).
+    /// The capture reached the longest a session holds (10 minutes or
+    /// 36,000 frames): it ended with what it had, the steps left skipped;
+    /// `Finished` follows. Say so, and save it.
+    LimitReached {
+        /// Seconds from the first frame to the one refused.
+        seconds: f64,
+        /// What happened, in words for the person.
+        message: String,
+    },
+    /// No step is left; show the review (`captures()`), then `finish` when
+    /// the person confirms (a retake may come first).
     Finished {
         /// Steps captured (the neutral scan included).
         captured: u32,
@@ -113,6 +122,14 @@ fn events(recorder: &Recorder, events: Vec<RecorderEvent>) -> Vec<CaptureEvent> 
         .map(|e| match e {
             RecorderEvent::TrackingLost => CaptureEvent::TrackingLost,
             RecorderEvent::TrackingResumed => CaptureEvent::TrackingResumed,
+            RecorderEvent::LimitReached { seconds, .. } => CaptureEvent::LimitReached {
+                seconds,
+                message: format!(
+                    "The capture reached its limit after {:.0} minutes; what was captured is kept \
+                     and the rest was skipped.",
+                    seconds / 60.0
+                ),
+            },
             RecorderEvent::Capture(e) => match e {
                 guided_capture::CaptureEvent::Started(step) => CaptureEvent::PromptStarted {
                     prompt: prompt(step),
@@ -219,31 +236,43 @@ impl CaptureSession {
         })
     }
 
+    /// The capture was interrupted (a phone call, the app sent to the
+    /// background, the phone locked): call it when the interruption begins.
+    /// The step under way starts again with the next frame and is announced
+    /// again (`PromptStarted`), so the time away neither times it out nor
+    /// joins its peak to frames from before.
+    pub fn interrupt(&self) -> Result<Vec<CaptureEvent>, LikenessError> {
+        self.recording(|r| {
+            let e = r.interrupt();
+            Ok(events(r, e))
+        })
+    }
+
     /// How far along the capture is.
-    pub fn progress(&self) -> CaptureProgress {
-        match &*self.state.lock().unwrap_or_else(|e| e.into_inner()) {
-            State::Recording(r) => r.progress().into(),
+    pub fn progress(&self) -> Result<CaptureProgress, LikenessError> {
+        Ok(match &*self.lock()? {
+            State::Recording(r) => CaptureProgress::new(r.progress(), r.ended_at_limit()),
             State::Done(p) => p.clone(),
-        }
+        })
     }
 
     /// The step under way, `None` once finished.
-    pub fn current_prompt(&self) -> Option<Prompt> {
-        match &*self.state.lock().unwrap_or_else(|e| e.into_inner()) {
-            State::Recording(r) => {
-                let step = r.progress().current?;
-                Some(Prompt::from(&r.step_info(step)))
-            }
+    pub fn current_prompt(&self) -> Result<Option<Prompt>, LikenessError> {
+        Ok(match &*self.lock()? {
+            State::Recording(r) => r
+                .progress()
+                .current
+                .map(|step| Prompt::from(&r.step_info(step))),
             State::Done(_) => None,
-        }
+        })
     }
 
     /// Whether no step is left (also after `finish`).
-    pub fn is_finished(&self) -> bool {
-        match &*self.state.lock().unwrap_or_else(|e| e.into_inner()) {
+    pub fn is_finished(&self) -> Result<bool, LikenessError> {
+        Ok(match &*self.lock()? {
             State::Recording(r) => r.is_finished(),
             State::Done(_) => true,
-        }
+        })
     }
 
     /// The generic template's vertices (xyz flattened) at the step at
@@ -260,10 +289,16 @@ impl CaptureSession {
                 .iter()
                 .map(|&step| {
                     let capture = r.capture_of(step);
+                    let weight = match (step, capture) {
+                        (Step::Expression(shape), Some(c)) => Some(c.weights.get(shape)),
+                        _ => None,
+                    };
                     CaptureInfo {
                         prompt: Prompt::from(&r.step_info(step)),
                         frame: capture.map(|c| c.frame),
                         warnings: capture.map(|c| c.quality.warnings()).unwrap_or_default(),
+                        weight,
+                        skipped: r.skipped().contains(&step),
                     }
                 })
                 .collect())
@@ -280,7 +315,7 @@ impl CaptureSession {
             ));
         };
         let session = recorder.session()?;
-        let progress = recorder.progress().into();
+        let progress = CaptureProgress::new(recorder.progress(), recorder.ended_at_limit());
         *state = State::Done(progress);
         Ok(Arc::new(SessionHandle::new(session)))
     }

@@ -104,15 +104,14 @@ impl From<RecorderError> for LikenessError {
             RecorderError::Capture(GuidedCaptureError::NeutralNotSkippable)
             | RecorderError::NotStarted
             | RecorderError::NothingToSkip
-            | RecorderError::NotFinished { .. } => LikenessError::WrongOrder { message: text },
-            RecorderError::NeutralWithoutMesh(_) | RecorderError::Session(_) => {
-                LikenessError::Capture { message: text }
-            }
+            | RecorderError::NotFinished { .. }
+            | RecorderError::Ended => LikenessError::WrongOrder { message: text },
+            RecorderError::NeutralWithoutMesh(_)
+            | RecorderError::NoNeutralScan
+            | RecorderError::Session(_) => LikenessError::Capture { message: text },
             RecorderError::Template(_)
             | RecorderError::Frame(_)
             | RecorderError::Capture(_)
-            | RecorderError::TooManyFrames(_)
-            | RecorderError::TooLong { .. }
             | RecorderError::NoSuchStep { .. }
             | RecorderError::NoPreview(_) => LikenessError::InvalidInput { message: text },
         }

@@ -15,18 +15,21 @@
 //! | the person's face: pose, mask, avatar | [`personalized`] |
 //! | the avatar posed by live weights (the result's preview) | [`avatar_preview`] |
 //! | the foreign progress listener | [`progress`] |
+//! | which exports may not fail, and why (a test) | `infallible_exports.rs` |
 
 uniffi::setup_scaffolding!();
 
 pub mod avatar_preview;
 pub mod capture;
 pub mod error;
+#[cfg(test)]
+mod infallible_exports;
 pub mod personalized;
 pub mod progress;
 pub mod session;
 pub mod types;
 
-pub use avatar_preview::{AvatarPreview, PreviewFocus};
+pub use avatar_preview::{AvatarPreview, PreviewFocus, PreviewMesh};
 pub use capture::{CaptureEvent, CaptureSession};
 pub use error::LikenessError;
 pub use personalized::PersonalizedFace;

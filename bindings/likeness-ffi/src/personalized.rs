@@ -79,13 +79,14 @@ impl PersonalizedFace {
     }
 
     /// The mask's triangles, three vertex indices each.
-    pub fn triangles(&self) -> Vec<u32> {
-        self.topology
+    pub fn triangles(&self) -> Result<Vec<u32>, LikenessError> {
+        Ok(self
+            .topology
             .triangles()
             .iter()
             .flatten()
             .copied()
-            .collect()
+            .collect())
     }
 
     /// The mask's vertices (xyz flattened) at 52 live ARKit weights
@@ -124,10 +125,7 @@ impl PersonalizedFace {
         let face = RestFace::chosen(avatar_glb.is_none(), rest_face.map(RestFace::from));
         let glb = match avatar_glb {
             Some(bytes) => read_avatar_bytes(&bytes, GIVEN_AVATAR)?,
-            None => {
-                let bytes = likeness_sim::default_avatar::default_avatar_glb()?;
-                read_avatar_bytes(&bytes, DEFAULT_AVATAR)?
-            }
+            None => read_avatar_bytes(likeness_assets::DEFAULT_AVATAR_GLB, DEFAULT_AVATAR)?,
         };
         let person = PersonInput {
             mask: &self.topology,

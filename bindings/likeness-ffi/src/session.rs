@@ -39,8 +39,8 @@ impl SessionHandle {
     }
 
     /// The captures in words: how many, which are missing, what is wrong.
-    pub fn quality_summary(&self) -> QualitySummary {
-        quality_summary(&self.session).into()
+    pub fn quality_summary(&self) -> Result<QualitySummary, LikenessError> {
+        Ok(quality_summary(&self.session).into())
     }
 
     /// The person's 52 blendshapes with `method` (a name of `methods()`;
@@ -71,8 +71,8 @@ impl SessionHandle {
 
     /// The generic template the session was recorded against (for
     /// replaying a stored session through a new capture).
-    pub fn template(&self) -> FaceTemplate {
-        FaceTemplate::of(&self.session)
+    pub fn template(&self) -> Result<FaceTemplate, LikenessError> {
+        Ok(FaceTemplate::of(&self.session))
     }
 
     /// Frames in the recorded stream.

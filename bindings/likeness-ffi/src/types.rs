@@ -50,6 +50,10 @@ pub struct CaptureProgress {
     pub total: u32,
     /// Share of the steps done, in `[0, 1]`.
     pub fraction: f64,
+    /// Whether the capture ended at its length limit (10 minutes or 36,000
+    /// frames): the steps left were skipped, what was captured is kept, no
+    /// retake is possible.
+    pub ended_at_limit: bool,
 }
 
 /// A personalization method.
@@ -115,6 +119,11 @@ pub struct CaptureInfo {
     pub frame: Option<u64>,
     /// The capture's quality flags in words.
     pub warnings: Vec<String>,
+    /// For an expression captured, the prompted weight at the captured
+    /// frame (0–1, for a weight bar); `None` otherwise.
+    pub weight: Option<f32>,
+    /// Whether the step was skipped without a capture.
+    pub skipped: bool,
 }
 
 /// `n` as the boundary's `u32` (every count here is far below its limit).
@@ -134,6 +143,15 @@ pub(crate) fn points(field: &str, flat: &[f32]) -> Result<Vec<Vec3>, LikenessErr
         .chunks_exact(3)
         .map(|p| Vec3::new(p[0], p[1], p[2]))
         .collect())
+}
+
+/// `points` as little-endian `f32` x, y, z after x, y, z.
+pub(crate) fn packed(points: &[Vec3]) -> Vec<u8> {
+    points
+        .iter()
+        .flat_map(|p| p.to_array())
+        .flat_map(f32::to_le_bytes)
+        .collect()
 }
 
 /// Points from little-endian 32-bit floats, xyz after xyz; `field` names
@@ -238,13 +256,15 @@ impl From<&StepInfo> for Prompt {
     }
 }
 
-impl From<Progress> for CaptureProgress {
-    fn from(p: Progress) -> Self {
+impl CaptureProgress {
+    /// `p`, and whether the capture ended at its length limit.
+    pub(crate) fn new(p: Progress, ended_at_limit: bool) -> Self {
         CaptureProgress {
             captured: count(p.captured),
             skipped: count(p.skipped),
             total: count(p.total),
             fraction: p.fraction(),
+            ended_at_limit,
         }
     }
 }

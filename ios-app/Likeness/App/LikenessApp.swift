@@ -13,6 +13,9 @@ struct LikenessApp: App {
     var body: some Scene {
         WindowGroup {
             RootView(flow: flow)
+                // A .glb or .gltf opened from Files or AirDrop (Info.plist
+                // declares both): the person's own avatar.
+                .onOpenURL { url in flow.openAvatar(at: url) }
         }
     }
 }

@@ -17,22 +17,22 @@ struct RootView: View {
     @ViewBuilder private var screen: some View {
         switch flow.screen {
         case .start:
-            StartView(
-                problem: flow.startProblem,
-                onBegin: { flow.startCapture() },
-                onReprocess: { flow.reprocess(sessionFile: $0) })
+            StartView(flow: flow)
         case .capture(let model):
-            CaptureView(
+            CaptureScreen(
                 model: model,
                 onCancel: { flow.startOver() },
-                onRetry: { flow.startCapture() })
+                onRetry: { flow.retry(model) })
                 // A new capture is a new screen: its camera starts on appear.
                 .id(ObjectIdentifier(model))
         case .processing(let model):
-            ProcessingView(model: model, onStartOver: { flow.startOver() })
+            ProcessingView(
+                model: model,
+                onStartOver: { flow.startOver() },
+                onDefaultAvatar: model.avatar == nil ? nil : { flow.useDefaultAvatar() })
                 .id(ObjectIdentifier(model))
         case .result(let model):
-            ResultView(model: model, onStartOver: { flow.startOver() })
+            ResultView(model: model, flow: flow)
                 .id(ObjectIdentifier(model))
         }
     }

@@ -18,6 +18,10 @@ enum Theme {
     static let faceRadius: Float = 0.1
     /// Corner radius of cards.
     static let cornerRadius: CGFloat = 16
+    /// How long a passing notice (a dropped frame) stays up, in seconds.
+    static let noticeSeconds: Double = 3
+    /// Widest a weight bar on the review gets.
+    static let weightBarWidth: CGFloat = 180
     /// How long the capture screen's transitions take.
     static let animation = Animation.easeInOut(duration: 0.25)
 }

@@ -1,9 +1,10 @@
 import SwiftUI
 import UIKit
 
-/// Guided capture: the camera with the tracked mask, the core's current
-/// request with a picture of it, progress, skip and retake, and a pause
-/// screen while the face is out of view.
+/// Guided capture: the camera with the tracked mask (or, in the demo, a note
+/// that a recording plays), the core's current request with a picture of it,
+/// progress, skip and retake, a pause screen while the face is out of view,
+/// and a passing notice when a frame was dropped.
 struct CaptureView: View {
     let model: CaptureModel
     /// Leave the capture (back to the start screen).
@@ -16,6 +17,8 @@ struct CaptureView: View {
             if let session = model.arSession {
                 FaceMaskView(session: session)
                     .ignoresSafeArea()
+            } else {
+                DemoBackdrop()
             }
             VStack(spacing: 12) {
                 HStack {
@@ -29,6 +32,14 @@ struct CaptureView: View {
                 }
                 stageContent
                 Spacer()
+                if let frameNotice = model.frameNotice {
+                    Label(frameNotice, systemImage: "exclamationmark.bubble")
+                        .font(.caption)
+                        .foregroundStyle(.white)
+                        .padding(8)
+                        .background(Theme.cardBackground, in: Capsule())
+                        .transition(.opacity)
+                }
                 if model.stage == .capturing {
                     CaptureControls(
                         progress: model.progress,
@@ -46,18 +57,19 @@ struct CaptureView: View {
         }
         .background(Color.black)
         .animation(Theme.animation, value: model.isPaused)
-        .onAppear { model.start() }
-        .onDisappear { model.stop() }
+        .animation(Theme.animation, value: model.frameNotice)
     }
 
     @ViewBuilder private var stageContent: some View {
         switch model.stage {
         case .lookingForFace:
             StatusCard(
-                systemImage: "faceid",
-                text: "Hold the phone at arm's length, level with your face, and look at the screen.")
+                systemImage: model.isDemo ? "play.circle" : "faceid",
+                text: model.isDemo
+                    ? "Loading a recorded capture…"
+                    : "Hold the phone at arm's length, level with your face, and look at the screen.")
         case .preparing:
-            StatusCard(systemImage: "hourglass", text: "Found you. Getting ready…")
+            StatusCard(systemImage: "hourglass", text: model.isDemo ? "Getting ready…" : "Found you. Getting ready…")
         case .capturing:
             if let prompt = model.prompt {
                 PromptCard(
@@ -67,10 +79,10 @@ struct CaptureView: View {
                     warnings: model.captureWarnings,
                     notice: model.notice)
             }
-        case .finishing:
-            StatusCard(systemImage: "checkmark.circle", text: "That's all of them. Saving your capture…")
+        case .reviewing, .saving:
+            EmptyView()
         case .failed(let message):
-            FailureCard(message: message, onRetry: onRetry, onBack: onCancel)
+            FailureCard(message: message, showsSettings: !model.isDemo, onRetry: onRetry, onBack: onCancel)
         }
     }
 }
@@ -93,6 +105,7 @@ private struct StatusCard: View {
 /// Why the capture stopped, with a way on.
 private struct FailureCard: View {
     let message: String
+    let showsSettings: Bool
     let onRetry: () -> Void
     let onBack: () -> Void
 
@@ -104,12 +117,14 @@ private struct FailureCard: View {
             HStack {
                 Button("Try again", action: onRetry)
                     .buttonStyle(.borderedProminent)
-                Button("Open Settings") {
-                    if let url = URL(string: UIApplication.openSettingsURLString) {
-                        UIApplication.shared.open(url)
+                if showsSettings {
+                    Button("Open Settings") {
+                        if let url = URL(string: UIApplication.openSettingsURLString) {
+                            UIApplication.shared.open(url)
+                        }
                     }
+                    .buttonStyle(.bordered)
                 }
-                .buttonStyle(.bordered)
                 Button("Back", action: onBack)
                     .buttonStyle(.bordered)
             }

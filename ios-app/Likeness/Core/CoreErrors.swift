@@ -3,6 +3,12 @@ import LikenessFFI
 import LikenessGlue
 
 /// Turns any error the app meets into a sentence for the screen.
+///
+/// The core throws `LikenessError`, whose cases the bindings spell in
+/// UpperCamelCase: `.InvalidInput`, `.File`, `.Capture`, `.Personalization`,
+/// `.Avatar`, `.WrongOrder`, `.Cancelled` and `.Internal` (the generated doc
+/// comment above the enum, copied from Rust, still says `.invalidInput` and
+/// `.cancelled`, which do not exist). A Rust panic arrives as another error.
 enum CoreErrors {
     /// The sentence for `error`: the core's errors by kind with the core's
     /// message, ARKit's with what to do, anything else as it describes itself.

@@ -5,7 +5,8 @@ import LikenessGlue
 /// core's order and the face mesh's vertices, packed.
 ///
 /// Takes ARKit's keys from the core (`arkitKeys()`), checks them against the
-/// first anchor it reads, and keeps them. Used on `CoreQueue` only.
+/// first anchor it reads, and keeps them. Used on one serial queue only (the
+/// camera feed's or the mirror's ARKit delegate queue).
 final class FaceFrameReader {
     /// The core's blendshape names, in its order.
     let names: [String]

@@ -4,9 +4,11 @@ import LikenessFFI
 /// Hears the core's progress during the long steps (personalizing, building
 /// the avatar) and tells the core when the person pressed Cancel.
 ///
-/// Implements the core's `ProgressListener` protocol. The core calls it from
-/// its own worker threads, so the cancel flag sits behind a lock and progress
-/// is handed to `report`, which must hop to the main actor itself.
+/// Implements the core's `ProgressListener` protocol. The core calls it on
+/// the thread that made the call (the core's thread, `CoreQueue`) while the
+/// person may press Cancel on the main thread, or iOS may end the background
+/// time, so the cancel flag sits behind a lock, and progress is handed to
+/// `report`, which must hop to the main actor itself.
 final class ProgressReporter: ProgressListener, @unchecked Sendable {
     private let lock = NSLock()
     private var cancelled = false

@@ -50,6 +50,17 @@ public enum ARKitGlue {
         return Data(bytes)
     }
 
+    /// Flattened xyz values (`x0, y0, z0, x1, …`, as a recorded frame holds
+    /// them) packed the same way as `packed(_:)`.
+    public static func packed(flat values: [Float]) -> Data {
+        var bytes: [UInt8] = []
+        bytes.reserveCapacity(values.count * 4)
+        for value in values {
+            withUnsafeBytes(of: value.bitPattern.littleEndian) { bytes.append(contentsOf: $0) }
+        }
+        return Data(bytes)
+    }
+
     /// `ARFaceGeometry.triangleIndices` (16-bit, signed by ARKit's declaration
     /// but indices all the same) as the core's 32-bit unsigned indices.
     public static func triangleIndices(_ indices: [Int16]) -> [UInt32] {

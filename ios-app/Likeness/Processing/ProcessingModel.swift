@@ -2,11 +2,16 @@ import Foundation
 import LikenessFFI
 import Observation
 
-/// Runs the two long steps on the core's queue (personalize the 52 shapes,
-/// then put them on the avatar) and shows how far the core has got.
+/// Runs the long steps on the core's thread (personalize the 52 shapes, put
+/// them on the avatar, write the files) and shows how far the core has got.
+///
+/// The session is already saved when this starts (see `Storage`), so nothing
+/// is lost if processing stops. It runs inside a background task: if the
+/// person leaves the app, iOS gives it a while to finish; if that time runs
+/// out, the core is told to cancel, and the start screen offers to resume.
 @MainActor @Observable
 final class ProcessingModel {
-    /// The two steps, in order.
+    /// The steps, in order.
     enum Step: Equatable {
         case personalizing, buildingAvatar, writingFiles
     }
@@ -26,21 +31,41 @@ final class ProcessingModel {
 
     /// The capture being processed.
     let saved: SavedSession
+    /// The person's shapes when they are already made (a new avatar for the
+    /// same capture): personalizing is skipped.
+    let face: PersonalizedFace?
+    /// The avatar the person brought; `nil`: the core's default avatar.
+    let avatar: ChosenAvatar?
     @ObservationIgnored private var reporter: ProgressReporter?
+    private let background = BackgroundTask()
     private let onDone: (ResultModel) -> Void
 
     /// - Parameters:
-    ///   - saved: the finished, saved capture.
+    ///   - saved: the confirmed, saved capture.
+    ///   - face: the person's shapes if already made.
+    ///   - avatar: the avatar to put them on (`nil`: the default).
     ///   - onDone: receives the result once the avatar is written.
-    init(saved: SavedSession, onDone: @escaping (ResultModel) -> Void) {
+    init(saved: SavedSession, face: PersonalizedFace?, avatar: ChosenAvatar?, onDone: @escaping (ResultModel) -> Void) {
         self.saved = saved
+        self.face = face
+        self.avatar = avatar
         self.onDone = onDone
+    }
+
+    /// Whether processing has stopped (cancelled or failed).
+    var isStopped: Bool {
+        switch state {
+        case .running, .cancelling:
+            return false
+        case .cancelled, .failed:
+            return true
+        }
     }
 
     /// Starts (or restarts) processing.
     func start() {
         state = .running
-        step = .personalizing
+        step = face == nil ? .personalizing : .buildingAvatar
         stage = ""
         fraction = 0
         let reporter = ProgressReporter { [weak self] stage, fraction in
@@ -49,23 +74,37 @@ final class ProcessingModel {
             }
         }
         self.reporter = reporter
+        background.begin(name: "Making your avatar") { [weak self] in
+            self?.cancel()
+        }
         let saved = self.saved
-        CoreQueue.queue.async {
+        let given = self.face
+        let avatar = self.avatar
+        CoreQueue.async {
             do {
-                let face = try saved.handle.personalize(method: nil, listener: reporter)
-                CoreQueue.onMain { [weak self] in self?.advance(to: .buildingAvatar) }
-                let avatar = try face.avatar(avatarGlb: nil, restFace: nil, listener: reporter)
+                let face: PersonalizedFace
+                if let given {
+                    face = given
+                } else {
+                    face = try saved.handle.personalize(method: nil, listener: reporter)
+                    CoreQueue.onMain { [weak self] in self?.advance(to: .buildingAvatar) }
+                }
+                let made = try face.avatar(avatarGlb: avatar?.bytes, restFace: nil, listener: reporter)
                 CoreQueue.onMain { [weak self] in self?.advance(to: .writingFiles) }
-                let files = try ExportFiles.write(avatar, beside: saved)
-                let preview = try AvatarPreview(glb: avatar.glb)
+                let (files, stored) = try ExportFiles.write(made, avatarName: avatar?.name, for: saved)
+                let preview = try AvatarPreview(glb: made.glb)
                 let outcome = ProcessingOutcome(
+                    saved: stored,
                     face: face,
-                    preview: preview,
-                    previewTriangles: preview.triangles(),
+                    avatarName: avatar?.name,
+                    mesh: try preview.morphMesh(),
+                    focus: try preview.focus(),
+                    names: arkitNames(),
+                    keys: arkitKeys(),
                     method: face.method(),
-                    triangles: face.triangles(),
-                    quality: saved.handle.qualitySummary(),
-                    avatar: avatar,
+                    triangles: try face.triangles(),
+                    quality: try saved.handle.qualitySummary(),
+                    avatar: made,
                     files: files)
                 CoreQueue.onMain { [weak self] in self?.finished(outcome) }
             } catch {
@@ -94,23 +133,33 @@ final class ProcessingModel {
 
     private func finished(_ outcome: ProcessingOutcome) {
         reporter = nil
+        background.end()
         onDone(ResultModel(outcome: outcome))
     }
 
     private func stopped(by error: Error) {
         reporter = nil
+        background.end()
         state = CoreErrors.isCancellation(error) ? .cancelled : .failed(CoreErrors.message(for: error))
     }
 }
 
 /// Everything processing produced, handed to the result screen.
 struct ProcessingOutcome {
+    /// The session, where it is saved now.
+    let saved: SavedSession
     /// The person's 52 shapes, to pose live.
     let face: PersonalizedFace
-    /// The avatar just written, to pose live beside the face.
-    let preview: AvatarPreview
-    /// The avatar's triangles.
-    let previewTriangles: [UInt32]
+    /// The avatar the person brought; `nil`: the default.
+    let avatarName: String?
+    /// The avatar just written, as one mesh with its ARKit shapes as morph
+    /// targets (built into SceneKit once).
+    let mesh: PreviewMesh
+    /// Where the avatar's face is, to point the preview at it.
+    let focus: PreviewFocus
+    /// The core's ARKit names and ARKit's keys for them, for the mirror.
+    let names: [String]
+    let keys: [String]
     /// The personalization method the core used.
     let method: String
     /// The face mesh's triangles.

@@ -6,6 +6,9 @@ struct ProcessingView: View {
     let model: ProcessingModel
     /// Back to the start screen.
     let onStartOver: () -> Void
+    /// Process again with the default avatar (offered when the person's own
+    /// avatar was used); `nil` hides it.
+    var onDefaultAvatar: (() -> Void)? = nil
 
     var body: some View {
         VStack(spacing: 24) {
@@ -14,7 +17,7 @@ struct ProcessingView: View {
             case .running, .cancelling:
                 running
             case .cancelled:
-                stopped(title: "Cancelled", message: "Your capture is saved; you can process it again.")
+                stopped(title: "Cancelled", message: "Your capture is saved: process it again here, or later from the start screen.")
             case .failed(let message):
                 stopped(title: "Processing stopped", message: message)
             }
@@ -31,7 +34,11 @@ struct ProcessingView: View {
             Text(model.stage.isEmpty ? " " : model.stage)
                 .font(.footnote)
                 .foregroundStyle(.secondary)
-            Text("Everything runs on this iPhone. This can take a minute.")
+            if let avatar = model.avatar {
+                Text("Avatar: \(avatar.name)")
+                    .font(.footnote)
+            }
+            Text("Everything runs on this iPhone. This can take a minute; it goes on for a while if you leave the app.")
                 .font(.footnote)
                 .multilineTextAlignment(.center)
                 .foregroundStyle(.secondary)
@@ -51,6 +58,10 @@ struct ProcessingView: View {
                 .multilineTextAlignment(.center)
             Button("Process again") { model.start() }
                 .buttonStyle(.borderedProminent)
+            if let onDefaultAvatar {
+                Button("Use the default avatar instead", action: onDefaultAvatar)
+                    .buttonStyle(.bordered)
+            }
             Button("Start over", action: onStartOver)
                 .buttonStyle(.bordered)
         }

@@ -2,8 +2,10 @@ import LikenessGlue
 import SceneKit
 import UIKit
 
-/// SceneKit geometry for the meshes the core hands out as flat arrays: the
-/// template at a prompt's expression, and the person's own face.
+/// SceneKit geometry for the small meshes the core hands out as flat arrays,
+/// made anew each time: the template at a prompt's expression, and the
+/// person's own face in the mirror (1,220 vertices). The avatar, which may be
+/// far larger, is built once and morphed instead (`AvatarMorph`).
 enum MeshGeometry {
     /// A shaded triangle mesh from `vertices` (xyz flattened, metres) and
     /// `triangles` (three indices each), or `nil` if the arrays do not form
@@ -37,7 +39,7 @@ enum MeshGeometry {
 
     /// A plain clay look, lit from both sides (the meshes are shown mirrored,
     /// which turns their triangles around).
-    private static func skin() -> SCNMaterial {
+    static func skin() -> SCNMaterial {
         let material = SCNMaterial()
         material.lightingModel = .blinn
         material.diffuse.contents = UIColor(white: 0.82, alpha: 1)

@@ -2,18 +2,18 @@ import SwiftUI
 import UIKit
 
 /// The result: the person's own face shapes and their avatar moving with them
-/// (a mirror), what the core says about the capture and the avatar, and the
-/// files to share.
+/// (a mirror), which avatar it is and whose face it has, what the core says
+/// about the capture and the avatar, another avatar to try, and the files to
+/// share.
 ///
 /// SceneKit cannot read GLB and the app takes no third-party packages, so the
-/// avatar preview is the core's: `AvatarPreview` reads the GLB just written and
-/// poses it by the live weights, and the app draws its one triangle list in
-/// clay. The GLB goes out through the share sheet to Blender, Unity, Reality
-/// Composer or any glTF viewer.
+/// avatar preview is the core's: `AvatarPreview.morphMesh()` hands over the
+/// GLB just written as one mesh with its ARKit shapes, built into SceneKit
+/// once, and the live weights play it. The GLB goes out through the share
+/// sheet to Blender, Unity, Reality Composer or any glTF viewer.
 struct ResultView: View {
     let model: ResultModel
-    /// Back to the start screen.
-    let onStartOver: () -> Void
+    let flow: AppFlow
 
     var body: some View {
         ScrollView {
@@ -22,8 +22,9 @@ struct ResultView: View {
                     .font(.largeTitle.bold())
                 mirror
                 summary
+                AvatarChoice(flow: flow, pickTitle: "Try it on my own avatar…")
                 ShareSection(files: model.files)
-                Button("Start over", action: onStartOver)
+                Button("Start over") { flow.startOver() }
                     .buttonStyle(.bordered)
                     .frame(maxWidth: .infinity)
             }
@@ -48,7 +49,7 @@ struct ResultView: View {
                 Label(problem, systemImage: "exclamationmark.triangle")
                     .font(.footnote)
             } else {
-                Text("Your own 52 expressions and your avatar, driven live by your face. Try a smile.")
+                Text("Your own expressions and your avatar, driven live by your face. Try a smile.")
                     .font(.footnote)
                     .foregroundStyle(.secondary)
             }
@@ -59,9 +60,7 @@ struct ResultView: View {
         VStack(alignment: .leading, spacing: 8) {
             Text(model.quality.headline)
                 .font(.headline)
-            Label(
-                model.ownFace ? "Your avatar has your face, from your neutral scan" : "Your avatar keeps its own face",
-                systemImage: model.ownFace ? "person.crop.circle.badge.checkmark" : "person.crop.circle")
+            Label(faceText, systemImage: model.ownFace ? "person.crop.circle.badge.checkmark" : "person.crop.circle")
                 .font(.subheadline)
             Text(model.avatarSummary)
             ForEach(model.quality.warnings + model.avatarWarnings, id: \.self) { warning in
@@ -77,5 +76,13 @@ struct ResultView: View {
                 .font(.footnote)
                 .foregroundStyle(.secondary)
         }
+    }
+
+    /// Whose face the avatar has at rest, as the core decided.
+    private var faceText: String {
+        let avatar = model.avatarName ?? "The default avatar"
+        return model.ownFace
+            ? "\(avatar) has your face, from your neutral scan, and your expressions"
+            : "\(avatar) keeps its own face and makes your expressions"
     }
 }

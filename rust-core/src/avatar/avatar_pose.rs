@@ -12,6 +12,7 @@
 use super::target_names::arkit_targets;
 use super::{ArkitTargets, Avatar};
 use crate::arkit::{BLENDSHAPE_COUNT, Blendshape, Weights};
+use crate::avatar::glb::write_new::vertex_normals;
 use glam::Vec3;
 
 /// One blendshape's displacement, on the vertices it moves only.
@@ -104,6 +105,44 @@ impl AvatarPose {
             true => ((lo + hi) / 2.0, (hi - lo).length() / 2.0),
             false => (Vec3::ZERO, 0.0),
         }
+    }
+
+    /// Shape `shape`'s displacement `D_j` at every vertex, zero where it
+    /// moves none (the dense form an engine's morph target takes).
+    pub fn displacement(&self, shape: Blendshape) -> Vec<Vec3> {
+        let mut out = vec![Vec3::ZERO; self.rest.len()];
+        let sparse = &self.shapes[shape.index()];
+        for (&v, d) in sparse.vertices.iter().zip(&sparse.displacements) {
+            out[v as usize] = *d;
+        }
+        out
+    }
+
+    /// The rest mesh's area-weighted vertex normals
+    /// ([`vertex_normals`]).
+    pub fn rest_normals(&self) -> Vec<Vec3> {
+        vertex_normals(&self.rest, &self.triangles)
+    }
+
+    /// How shape `shape` at weight one changes each vertex normal: the
+    /// normals of `x₀ + D_j` minus the rest's, so an engine that adds
+    /// weighted normal deltas and renormalizes (SceneKit's additive
+    /// morpher, glTF's morph targets) shades the shape as it bends.
+    pub fn normal_change(&self, shape: Blendshape) -> Vec<Vec3> {
+        let sparse = &self.shapes[shape.index()];
+        if sparse.vertices.is_empty() {
+            return vec![Vec3::ZERO; self.rest.len()];
+        }
+        let mut posed = self.rest.clone();
+        for (&v, d) in sparse.vertices.iter().zip(&sparse.displacements) {
+            posed[v as usize] += *d;
+        }
+        let rest = self.rest_normals();
+        vertex_normals(&posed, &self.triangles)
+            .iter()
+            .zip(&rest)
+            .map(|(n, r)| *n - *r)
+            .collect()
     }
 
     /// `x₀ + Σ_j w_j D_j` at `weights` (ARKit's order), every part

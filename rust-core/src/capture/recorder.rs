@@ -4,7 +4,11 @@
 //! [`GuidedCapture`] decides when each step is captured; the recorder
 //! around it checks every frame against the template's topology, reports
 //! the face being lost and found, keeps the stream a session file stores,
-//! and assembles the session once no step is left.
+//! and assembles the session once no step is left. An interruption (a
+//! call, the app in the background) restarts the step under way
+//! ([`Recorder::interrupt`]); the frame that would take the capture past
+//! what a session file holds ends it with what it has
+//! ([`RecorderEvent::LimitReached`]), so nothing recorded is lost.
 //!
 //! The stream keeps every frame's weights, but a mesh only near a capture
 //! (within [`RecorderConfig::geometry_window`] of the neutral scan, an
@@ -64,6 +68,16 @@ pub enum RecorderEvent {
     TrackingLost,
     /// This frame is the first with a tracked face again.
     TrackingResumed,
+    /// This frame would have taken the capture past what a session holds
+    /// ([`MAX_FRAMES`] frames or [`MAX_DURATION_SECONDS`]): it was not
+    /// recorded, the capture ended with what it had (the steps left are
+    /// skipped), and later frames are ignored.
+    LimitReached {
+        /// The frame's index in the stream.
+        frame: usize,
+        /// Its time after the first frame (s).
+        seconds: f64,
+    },
 }
 
 /// A call the recorder cannot take; the message names the field or step.
@@ -79,20 +93,15 @@ pub enum RecorderError {
     /// neutral scan).
     #[error(transparent)]
     Capture(#[from] GuidedCaptureError),
-    /// More frames than a session file holds.
-    #[error("frame {0}: a capture holds at most {MAX_FRAMES} frames")]
-    TooManyFrames(usize),
-    /// A frame more than [`MAX_DURATION_SECONDS`] after the first: the
-    /// session could not be saved.
+    /// A retake after the capture ended at its length limit
+    /// ([`RecorderEvent::LimitReached`]).
     #[error(
-        "frame {frame}: {seconds:.1} s after the first frame, past the {MAX_DURATION_SECONDS} s a capture may last"
+        "the capture ended at its length limit ({MAX_FRAMES} frames or {MAX_DURATION_SECONDS} s): save it, or start a new one"
     )]
-    TooLong {
-        /// The frame's index in the stream.
-        frame: usize,
-        /// Its time after the first frame.
-        seconds: f64,
-    },
+    Ended,
+    /// The capture ended before the neutral scan, so there is no face.
+    #[error("the capture ended before the neutral scan: there is no face to personalize")]
+    NoNeutralScan,
     /// A step index past the last step.
     #[error("there is no step {index}: the capture has {total} (0 is the neutral scan)")]
     NoSuchStep {
@@ -159,6 +168,8 @@ pub struct Recorder {
     recent: VecDeque<usize>,
     /// Timestamps of every capture confirmed so far.
     centres: Vec<f64>,
+    /// Whether the capture ended at its length limit.
+    ended: bool,
 }
 
 impl Recorder {
@@ -191,6 +202,7 @@ impl Recorder {
             stream: Vec::new(),
             recent: VecDeque::new(),
             centres: Vec::new(),
+            ended: false,
         })
     }
 
@@ -201,22 +213,29 @@ impl Recorder {
     }
 
     /// Checks and feeds the next frame (starting the capture if needed).
-    /// On error nothing is recorded. A capture is refused past the limits
-    /// a session file holds ([`MAX_FRAMES`], [`MAX_DURATION_SECONDS`]) as
-    /// it passes them, so that whatever was recorded can be saved.
+    /// On error nothing is recorded. The frame that would take the capture
+    /// past what a session file holds ([`MAX_FRAMES`],
+    /// [`MAX_DURATION_SECONDS`]) ends it instead
+    /// ([`RecorderEvent::LimitReached`]), so what was recorded can be saved;
+    /// frames after that are ignored.
     pub fn push(&mut self, frame: Frame) -> Result<Vec<RecorderEvent>, RecorderError> {
-        let index = self.stream.len();
-        if index >= MAX_FRAMES {
-            return Err(RecorderError::TooManyFrames(index));
+        if self.ended {
+            return Ok(Vec::new());
         }
-        if let Some(first) = self.stream.first() {
-            let seconds = frame.timestamp - first.timestamp;
-            if seconds > MAX_DURATION_SECONDS {
-                return Err(RecorderError::TooLong {
-                    frame: index,
-                    seconds,
-                });
-            }
+        let index = self.stream.len();
+        let seconds = self
+            .stream
+            .first()
+            .map_or(0.0, |first| frame.timestamp - first.timestamp);
+        if index >= MAX_FRAMES || seconds > MAX_DURATION_SECONDS {
+            self.ended = true;
+            self.started = true;
+            let mut events = vec![RecorderEvent::LimitReached {
+                frame: index,
+                seconds,
+            }];
+            events.extend(wrap(self.capture.end()));
+            return Ok(events);
         }
         let what = format!("frame {index}");
         if let Some((shape, value)) = frame.weights.iter().find(|(_, w)| !w.is_finite()) {
@@ -271,13 +290,32 @@ impl Recorder {
     }
 
     /// Asks for the step at `index` of [`Recorder::steps`] again now (also
-    /// after the end).
+    /// after the end, but not after the length limit ended it).
     pub fn retake(&mut self, index: usize) -> Result<Vec<RecorderEvent>, RecorderError> {
         let step = self.step_at(index)?;
         if !self.started {
             return Err(RecorderError::NotStarted);
         }
+        if self.ended {
+            return Err(RecorderError::Ended);
+        }
         Ok(wrap(self.capture.retake(step)?))
+    }
+
+    /// The capture was interrupted (a call, the app in the background,
+    /// the phone locked): the step under way starts again with the next
+    /// frame ([`GuidedCapture::interrupt`]). Frames may resume at any later
+    /// time; the time away still counts towards [`MAX_DURATION_SECONDS`].
+    pub fn interrupt(&mut self) -> Vec<RecorderEvent> {
+        if self.ended {
+            return Vec::new();
+        }
+        wrap(self.capture.interrupt())
+    }
+
+    /// Whether the capture ended at its length limit.
+    pub fn ended_at_limit(&self) -> bool {
+        self.ended
     }
 
     /// How far along the capture is.
@@ -318,6 +356,11 @@ impl Recorder {
         }
     }
 
+    /// The steps skipped without a capture.
+    pub fn skipped(&self) -> &[Step] {
+        self.capture.skipped()
+    }
+
     /// The capture of `step`, if any.
     pub fn capture_of(&self, step: Step) -> Option<&Capture> {
         self.capture.capture_of(step)
@@ -345,6 +388,7 @@ impl Recorder {
         let progress = self.progress();
         let neutral = match self.capture_of(Step::Neutral) {
             Some(n) if self.is_finished() => n,
+            None if self.ended => return Err(RecorderError::NoNeutralScan),
             _ => {
                 return Err(RecorderError::NotFinished {
                     done: progress.captured + progress.skipped,
@@ -352,10 +396,12 @@ impl Recorder {
                 });
             }
         };
-        let neutral_mesh = neutral
-            .vertices
-            .clone()
-            .ok_or(RecorderError::NeutralWithoutMesh(neutral.frame))?;
+        let neutral_mesh = match &neutral.vertices {
+            Some(mesh) => mesh.clone(),
+            None => self
+                .still_mesh_near(neutral)
+                .ok_or(RecorderError::NeutralWithoutMesh(neutral.frame))?,
+        };
         let with_mesh = |step| {
             let c = self.capture_of(step)?;
             Some((c, c.vertices.clone()?))
@@ -415,6 +461,51 @@ impl Recorder {
             truth: None,
         })
         .map_err(RecorderError::Session)
+    }
+
+    /// For a neutral scan whose own frame has no mesh (only a replay of a
+    /// stream stored without every mesh has such a frame): the mesh of the
+    /// nearest frame that still shows the same face, by the neutral
+    /// detector's own rules ([`NeutralConfig`](super::guided_capture::NeutralConfig)):
+    /// within its `duration` of the scan, and every frame from the scan to
+    /// it tracked with each weight within `max_weight_change` of the
+    /// scan's. `None` if there is none.
+    fn still_mesh_near(&self, scan: &Capture) -> Option<Vec<Vec3>> {
+        let rules = &self.config.guided.neutral;
+        let at = usize::try_from(scan.frame).ok()?;
+        let same_face = |f: &Frame| {
+            f.tracked
+                && (f.timestamp - scan.timestamp).abs() <= rules.duration
+                && f.weights
+                    .0
+                    .iter()
+                    .zip(&scan.weights.0)
+                    .all(|(w, s)| (w - s).abs() <= rules.max_weight_change)
+        };
+        // Walk outwards both ways while the face stays the same; the first
+        // mesh met on either side (the nearer one first) is taken.
+        let before = self.stream[..at].iter().rev().take_while(|f| same_face(f));
+        let after = self
+            .stream
+            .get(at + 1..)?
+            .iter()
+            .take_while(|f| same_face(f));
+        let (mut before, mut after) = (before.peekable(), after.peekable());
+        loop {
+            let next = match (before.peek(), after.peek()) {
+                (None, None) => return None,
+                (Some(b), Some(a))
+                    if scan.timestamp - b.timestamp <= a.timestamp - scan.timestamp =>
+                {
+                    before.next()
+                }
+                (Some(_), None) => before.next(),
+                _ => after.next(),
+            };
+            if let Some(mesh) = next.and_then(|f| f.vertices.clone()) {
+                return Some(mesh);
+            }
+        }
     }
 
     /// Whether time `t` is within the geometry window of one of `centres`.

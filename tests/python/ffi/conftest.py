@@ -68,20 +68,31 @@ class Replay:
     current_prompt: object = None
 
 
-def replay(ffi, handle, packed=False):
+def replay(ffi, handle, packed=False, away=None, stop=None):
     """Pushes every frame of `handle`'s recorded stream, one call each:
     `push_frame`, or `push_frame_packed` with the mesh packed as
-    little-endian floats (the packing timed with the call)."""
+    little-endian floats (the packing timed with the call). With `away =
+    (frame, seconds, tell)`, the phone is away for `seconds` before that
+    frame (a call, the app in the background): every later frame comes
+    that much later, and with `tell` the app calls `interrupt()` first, as
+    it does when ARKit's session is interrupted. With `stop`, the replay
+    ends before that frame."""
     capture = ffi.CaptureSession(handle.template(), "replay")
     result = Replay(capture, list(capture.start()))
-    for i in range(handle.recorded_frame_count()):
+    shift = 0.0
+    for i in range(handle.recorded_frame_count() if stop is None else stop):
         f = handle.recorded_frame(i)
+        if away is not None and i == away[0]:
+            shift = away[1]
+            if away[2]:
+                result.events.extend(capture.interrupt())
+        timestamp = f.timestamp + shift
         started = time.perf_counter()
         if packed:
             vertices = struct.pack(f"<{len(f.vertices)}f", *f.vertices)
-            events = capture.push_frame_packed(f.timestamp, f.weights, vertices, f.tracked)
+            events = capture.push_frame_packed(timestamp, f.weights, vertices, f.tracked)
         else:
-            events = capture.push_frame(f.timestamp, f.weights, f.vertices, f.tracked)
+            events = capture.push_frame(timestamp, f.weights, f.vertices, f.tracked)
         result.push_seconds.append(time.perf_counter() - started)
         result.with_mesh.append(bool(f.vertices))
         result.events.extend(events)

@@ -47,3 +47,30 @@ def test_push_frame_cost(ffi, full_replay, full_replay_packed, subject_1_replay,
             f"push_frame without a mesh ({len(without)} frames): median "
             f"{statistics.median(without) * 1e3:.3f} ms"
         )
+
+
+def test_live_preview_cost(ffi, subject_1, capsys):
+    """The result screen's live preview: the morph mesh crosses once; then
+    per frame nothing does (SceneKit's morpher takes the 52 weights). For
+    comparison, what posing the whole avatar in the core per frame costs
+    (`pose`, as the app did before). Printed, never asserted."""
+    result = subject_1.personalize(None, None).avatar(None, None, None)
+    preview = ffi.AvatarPreview(result.glb)
+    started = time.perf_counter()
+    mesh = preview.morph_mesh()
+    once = time.perf_counter() - started
+    size = len(mesh.positions) + len(mesh.normals) + len(mesh.triangles)
+    size += sum(map(len, mesh.position_targets)) + sum(map(len, mesh.normal_targets))
+    weights = [0.3] * 52
+    pose = []
+    for _ in range(30):
+        started = time.perf_counter()
+        preview.pose(weights)
+        pose.append(time.perf_counter() - started)
+    with capsys.disabled():
+        print(
+            f"\nlive preview: morph_mesh once {once * 1e3:.0f} ms, {size / 1e6:.1f} MB "
+            f"({len(mesh.positions) // 12} vertices, 52 targets with normals); per frame "
+            f"0 bytes cross the FFI; pose() per frame instead: median "
+            f"{statistics.median(pose) * 1e3:.2f} ms, {len(mesh.positions) // 4} floats"
+        )

@@ -100,11 +100,21 @@ def test_time_going_backwards_or_not_finite_is_refused(ffi, capture, template):
     capture.push_frame(1.0, ZEROS, [], True)  # the same time again is fine
 
 
-def test_a_capture_past_ten_minutes_is_refused_as_it_passes(ffi, capture):
+def test_a_capture_past_ten_minutes_ends_instead_of_refusing_frames(ffi, capture):
     capture.push_frame(100.0, ZEROS, [], True)
     capture.push_frame(700.0, ZEROS, [], True)  # exactly ten minutes: the last
-    with pytest.raises(ffi.LikenessError.InvalidInput, match="frame 2: 600.5 s after the first"):
-        capture.push_frame(700.5, ZEROS, [], True)
+    events = capture.push_frame(700.5, ZEROS, [], True)
+    assert events[0].is_limit_reached() and events[0].seconds == 600.5
+    assert "limit" in events[0].message and "kept" in events[0].message
+    assert events[-1].is_finished()
+    assert capture.is_finished() and capture.progress().ended_at_limit
+    assert capture.push_frame(701.0, ZEROS, [], True) == []  # ignored
+    with pytest.raises(ffi.LikenessError.WrongOrder, match="length limit"):
+        capture.retake(1)
+    # Its neutral scan (the still frames) has no mesh: nothing to save, and
+    # it says so.
+    with pytest.raises(ffi.LikenessError.Capture, match="no neutral face"):
+        capture.finish()
 
 
 def test_templates_that_do_not_fit_are_refused(ffi, template):

@@ -173,3 +173,33 @@ def test_the_avatar_preview_poses_the_written_avatar_by_live_weights(ffi, subjec
     assert 0.05 < focus.radius < 0.25
     xs, ys = rest[0::3], rest[1::3]
     assert min(xs) <= focus.x <= max(xs) and min(ys) <= focus.y <= max(ys)
+
+
+def test_the_morph_mesh_plays_as_pose_does(ffi, subject_1):
+    """What SceneKit's morpher is given once (rest, normals, triangles, 52
+    dense targets) poses the avatar exactly as `pose` does: rest plus the
+    weighted targets."""
+    import random
+    import struct
+
+    result = subject_1.personalize(None, None).avatar(None, None, None)
+    preview = ffi.AvatarPreview(result.glb)
+    mesh = preview.morph_mesh()
+    floats = lambda b: struct.unpack(f"<{len(b) // 4}f", b)
+    rest = floats(mesh.positions)
+    assert len(rest) == len(preview.pose([0.0] * 52))
+    assert list(struct.unpack(f"<{len(mesh.triangles) // 4}I", mesh.triangles)) == preview.triangles()
+    normals = floats(mesh.normals)
+    assert len(normals) == len(rest)
+    assert all(abs(sum(n * n for n in normals[i:i + 3]) - 1) < 1e-4 for i in range(0, len(normals), 300))
+    assert len(mesh.position_targets) == len(mesh.normal_targets) == 52
+    assert all(len(t) == len(mesh.positions) for t in mesh.position_targets)
+    random.seed(3)
+    weights = [random.random() for _ in range(52)]
+    played = list(rest)
+    for w, target in zip(weights, mesh.position_targets):
+        for i, d in enumerate(floats(target)):
+            if d:
+                played[i] += w * d
+    posed = preview.pose(weights)
+    assert max(abs(a - b) for a, b in zip(played, posed)) < 1e-5

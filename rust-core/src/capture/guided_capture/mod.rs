@@ -62,6 +62,9 @@ pub enum SkipReason {
     TimedOut,
     /// The person asked to skip ([`GuidedCapture::skip`]).
     Requested,
+    /// The capture reached the longest a session holds and ended
+    /// ([`GuidedCapture::end`]).
+    CaptureEnded,
 }
 
 impl SkipReason {
@@ -70,6 +73,7 @@ impl SkipReason {
         match self {
             SkipReason::TimedOut => "timed out: the expression was not seen in time",
             SkipReason::Requested => "skipped on request",
+            SkipReason::CaptureEnded => "not reached: the capture ended at its length limit",
         }
     }
 }

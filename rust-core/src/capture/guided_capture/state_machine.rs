@@ -170,6 +170,39 @@ impl GuidedCapture {
         Ok(events)
     }
 
+    /// The capture was interrupted (a call, the app sent to the
+    /// background, the phone locked): the step under way starts again with
+    /// the next frame, as if just asked for, so the time away neither
+    /// times it out nor joins its peak to frames from before. Its
+    /// [`CaptureEvent::Started`] is given again; nothing if no step is under
+    /// way.
+    pub fn interrupt(&mut self) -> Vec<CaptureEvent> {
+        let mut events = Vec::new();
+        if let Some(current) = self.active.take() {
+            self.queue.push_front(current.step);
+            self.advance(&mut events);
+        }
+        events
+    }
+
+    /// Ends the capture now: the step under way and every step still
+    /// queued are skipped ([`SkipReason::CaptureEnded`]), what was captured
+    /// is kept, and [`CaptureEvent::Finished`] follows. A retake after it
+    /// is the caller's to refuse.
+    pub fn end(&mut self) -> Vec<CaptureEvent> {
+        let mut events = Vec::new();
+        if self.active.is_none() {
+            return events;
+        }
+        for step in std::mem::take(&mut self.queue) {
+            if self.capture_of(step).is_none() && !self.skipped.contains(&step) {
+                self.skipped.push(step);
+            }
+        }
+        self.skip_step(SkipReason::CaptureEnded, &mut events);
+        events
+    }
+
     /// How far along the capture is.
     pub fn progress(&self) -> Progress {
         let captured = usize::from(self.neutral.is_some())

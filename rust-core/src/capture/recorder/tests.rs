@@ -157,18 +157,73 @@ fn bad_frames_are_refused_naming_the_field_and_record_nothing() {
     assert_eq!(r.stream.len(), 1);
     assert_eq!(r.capture.frames_seen(), 1);
     // Ten minutes after the first frame is the last a session file holds.
-    let mut last = frame(1, Weights::ZERO, None);
+    // (The face is not at rest, so no neutral scan is captured.)
+    let mut open = Weights::ZERO;
+    open.set(Blendshape::JawOpen, 0.8);
+    let mut last = frame(1, open, None);
     last.timestamp = UPTIME + MAX_DURATION_SECONDS;
     r.push(last).unwrap();
     let mut past = frame(2, Weights::ZERO, None);
     past.timestamp = UPTIME + MAX_DURATION_SECONDS + 0.5;
-    let e = r.push(past).unwrap_err();
-    assert!(
-        matches!(e, RecorderError::TooLong { frame: 2, seconds } if seconds == MAX_DURATION_SECONDS + 0.5),
-        "{e:?}"
+    // The frame past it ends the capture instead: not recorded, the steps
+    // left skipped, finished; later frames ignored, no retake.
+    let events = r.push(past.clone()).unwrap();
+    assert_eq!(
+        events[0],
+        RecorderEvent::LimitReached {
+            frame: 2,
+            seconds: MAX_DURATION_SECONDS + 0.5
+        }
     );
-    assert!(e.to_string().starts_with("frame 2: 600.5 s after"), "{e}");
+    assert!(
+        matches!(
+            events.last(),
+            Some(RecorderEvent::Capture(CaptureEvent::Finished {
+                captured: 0,
+                skipped: 53
+            }))
+        ),
+        "{events:?}"
+    );
+    assert!(r.is_finished() && r.ended_at_limit());
     assert_eq!(r.stream.len(), 2);
+    assert_eq!(r.push(past).unwrap(), Vec::new());
+    assert_eq!(r.stream.len(), 2);
+    assert_eq!(r.retake(1), Err(RecorderError::Ended));
+    assert_eq!(r.session().unwrap_err(), RecorderError::NoNeutralScan);
+}
+
+#[test]
+fn a_capture_at_its_length_limit_keeps_what_it_has() {
+    let (mut r, neutral) = recorder();
+    record(&mut r, &[Weights::ZERO; 90], Some(&neutral));
+    assert_eq!(r.progress().captured, 1, "the neutral scan");
+    // The person leaves the phone on the table past the limit.
+    let mut late = frame(90, Weights::ZERO, Some(&neutral));
+    late.timestamp = UPTIME + MAX_DURATION_SECONDS + 1.0;
+    let events = r.push(late).unwrap();
+    assert!(matches!(
+        events[0],
+        RecorderEvent::LimitReached { frame: 90, .. }
+    ));
+    let session = r.session().unwrap();
+    assert_eq!(session.frames.len(), 90, "every frame before the limit");
+    let p = r.progress();
+    assert_eq!((p.captured, p.skipped, p.current), (1, 52, None));
+}
+
+#[test]
+fn an_interruption_restarts_the_step_under_way() {
+    let (mut r, neutral) = recorder();
+    record(&mut r, &[Weights::ZERO; 90], Some(&neutral));
+    let step = r.progress().current.unwrap();
+    let events = r.interrupt();
+    assert_eq!(
+        events,
+        vec![RecorderEvent::Capture(CaptureEvent::Started(step))],
+        "the same step, asked for again"
+    );
+    assert_eq!(r.progress().current, Some(step));
 }
 
 #[test]
@@ -275,4 +330,42 @@ fn the_frame_rate_is_the_median_interval() {
     // Intervals 0.02, 0.01, 0.02, 0.01, 0.02: median 0.02.
     assert!((frame_rate(&frames) - 50.0).abs() < 1e-3);
     assert_eq!(frame_rate(&frames[..1]), NOMINAL_FRAME_RATE);
+}
+
+/// A stored stream with meshes only from frame `from`: the neutral scan
+/// (taken at about frame 60) has none of its own. Every prompt skipped.
+fn neutral_without_its_mesh(from: usize, weights: &[Weights]) -> (Recorder, Vec<Vec3>) {
+    let (mut r, neutral) = recorder();
+    r.start();
+    for (i, w) in weights.iter().enumerate() {
+        let mesh = (i >= from).then_some(neutral.as_slice());
+        r.push(frame(i, *w, mesh)).unwrap();
+    }
+    while r.progress().current.is_some() {
+        r.skip().unwrap();
+    }
+    (r, neutral)
+}
+
+#[test]
+fn a_neutral_scan_without_a_mesh_takes_the_nearest_still_one() {
+    let still = [Weights::ZERO; 90];
+    let (r, neutral) = neutral_without_its_mesh(70, &still);
+    let scan = r.capture_of(Step::Neutral).unwrap();
+    assert!(scan.vertices.is_none() && scan.frame < 70);
+    // Frame 70's mesh (each frame's mesh is offset by 1e-7 m per frame).
+    let session = r.session().unwrap();
+    let z = session.neutral[0].z - neutral[0].z;
+    assert!((z - 70e-7).abs() < 1e-9, "{z}");
+
+    // The face moved between the scan and the nearest mesh: none is taken.
+    let mut moved = still;
+    for w in &mut moved[65..] {
+        w.set(Blendshape::JawOpen, 0.2);
+    }
+    let (r, _) = neutral_without_its_mesh(70, &moved);
+    assert!(matches!(
+        r.session(),
+        Err(RecorderError::NeutralWithoutMesh(_))
+    ));
 }

@@ -11,8 +11,9 @@ use likeness::session::SessionError;
 use likeness::session::file::SessionFileError;
 use std::error::Error;
 
-/// Why a call failed. Swift: `LikenessError.invalidInput(message:)` … and
-/// `.cancelled`; Python: `LikenessError.InvalidInput` … subclasses.
+/// Why a call failed. Swift: `LikenessError.InvalidInput(message:)` … and
+/// `.Cancelled` (UniFFI keeps an error's case names as Rust spells them);
+/// Python: `LikenessError.InvalidInput` … subclasses.
 #[derive(Debug, PartialEq, thiserror::Error, uniffi::Error)]
 pub enum LikenessError {
     /// An argument is unusable: a weight array not of 52 finite values, a

@@ -4,7 +4,7 @@
 use std::sync::Arc;
 
 /// Hears how far a long call (personalization, the avatar) has got, and
-/// may stop it: the call then fails with `LikenessError.cancelled`. Called
+/// may stop it: the call then fails with `LikenessError.Cancelled`. Called
 /// on the thread that made the call.
 #[uniffi::export(foreign)]
 pub trait ProgressListener: Send + Sync {

@@ -54,7 +54,10 @@ pub fn face() -> &'static Face {
     static FACE: OnceLock<Face> = OnceLock::new();
     FACE.get_or_init(|| {
         let handle = SessionHandle::load(TEMPLATE_SESSION.into()).expect("committed session");
-        let template = patch(&handle.template(), TEMPLATE_TRIANGLES);
+        let template = patch(
+            &handle.template().expect("its template"),
+            TEMPLATE_TRIANGLES,
+        );
         eprintln!(
             "capture_ffi: the template's first {TEMPLATE_TRIANGLES} triangles, {} vertices",
             template.neutral.len() / 3
@@ -240,7 +243,7 @@ impl Run<'_> {
             Op::SkipAll => {
                 for _ in 0..60 {
                     match &self.capture {
-                        Some(c) if !c.is_finished() => {
+                        Some(c) if checked(c.is_finished()) == Some(false) => {
                             if checked(c.skip()).is_none() {
                                 break;
                             }
@@ -279,24 +282,27 @@ impl Run<'_> {
     /// Progress, prompt and finished flag agree and stay within bounds.
     fn query(&self) {
         let Some(c) = &self.capture else { return };
-        let p = c.progress();
+        let Some(p) = checked(c.progress()) else {
+            return;
+        };
         assert!(
             (0.0..=1.0).contains(&p.fraction),
             "progress fraction {}",
             p.fraction
         );
         assert!(p.captured + p.skipped <= p.total, "progress {p:?}");
-        if let Some(prompt) = c.current_prompt() {
+        if let Some(Some(prompt)) = checked(c.current_prompt()) {
             assert!(prompt.index < prompt.total, "prompt {prompt:?}");
-            assert!(!c.is_finished(), "a prompt under way once finished");
+            let finished = checked(c.is_finished());
+            assert_ne!(finished, Some(true), "a prompt under way once finished");
         }
     }
 
     /// Reads everything the handle offers.
     fn read_handle(&self, index: u32) {
         let Some(h) = &self.handle else { return };
-        let _ = h.quality_summary();
-        let template = h.template();
+        checked(h.quality_summary()).expect("a session's summary");
+        let template = checked(h.template()).expect("a session's template");
         assert_eq!(
             template.neutral.len(),
             self.face.template.neutral.len(),
@@ -327,7 +333,7 @@ impl Run<'_> {
     fn gesture(&mut self, n: usize, packed: bool) {
         let Some(c) = &self.capture else { return };
         // Before the start and once finished, the neutral face.
-        let shape = c.current_prompt().and_then(|p| {
+        let shape = checked(c.current_prompt()).flatten().and_then(|p| {
             let found = self.face.names.iter().position(|name| *name == p.name);
             found.filter(|_| !p.is_neutral)
         });

@@ -4,7 +4,6 @@
 use crate::error::LikenessError;
 use crate::personalized::GIVEN_AVATAR;
 use crate::types::{flat, packed};
-use glam::Vec3;
 use likeness::arkit::Blendshape;
 use likeness::avatar::avatar_pose::AvatarPose;
 use likeness::avatar::glb::read_avatar_bytes;
@@ -82,18 +81,24 @@ impl AvatarPreview {
     /// nothing crosses the boundary. Everything is packed as
     /// little-endian 32-bit values.
     pub fn morph_mesh(&self) -> Result<PreviewMesh, LikenessError> {
-        let shapes = Blendshape::ALL;
         let found = self.pose.arkit_targets();
-        let target = |shape: Blendshape, field: &dyn Fn(Blendshape) -> Vec<Vec3>| match found
-            .of(shape)
-            .is_empty()
-        {
-            true => Vec::new(),
-            false => packed(&field(shape)),
-        };
+        let rest_normals = self.pose.rest_normals();
+        // A shape the avatar lacks crosses as an empty target.
+        let (mut position_targets, mut normal_targets) = (Vec::new(), Vec::new());
+        for shape in Blendshape::ALL {
+            let has = !found.of(shape).is_empty();
+            position_targets.push(match has {
+                true => packed(&self.pose.displacement(shape)),
+                false => Vec::new(),
+            });
+            normal_targets.push(match has {
+                true => packed(&self.pose.normal_change(shape, &rest_normals)),
+                false => Vec::new(),
+            });
+        }
         Ok(PreviewMesh {
             positions: packed(self.pose.rest()),
-            normals: packed(&self.pose.rest_normals()),
+            normals: packed(&rest_normals),
             triangles: self
                 .pose
                 .triangles()
@@ -101,14 +106,8 @@ impl AvatarPreview {
                 .flatten()
                 .flat_map(|i| i.to_le_bytes())
                 .collect(),
-            position_targets: shapes
-                .iter()
-                .map(|&s| target(s, &|s| self.pose.displacement(s)))
-                .collect(),
-            normal_targets: shapes
-                .iter()
-                .map(|&s| target(s, &|s| self.pose.normal_change(s)))
-                .collect(),
+            position_targets,
+            normal_targets,
         })
     }
 

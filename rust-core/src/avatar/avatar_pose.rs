@@ -125,22 +125,22 @@ impl AvatarPose {
     }
 
     /// How shape `shape` at weight one changes each vertex normal: the
-    /// normals of `x₀ + D_j` minus the rest's, so an engine that adds
-    /// weighted normal deltas and renormalizes (SceneKit's additive
-    /// morpher, glTF's morph targets) shades the shape as it bends.
-    pub fn normal_change(&self, shape: Blendshape) -> Vec<Vec3> {
-        let sparse = &self.shapes[shape.index()];
-        if sparse.vertices.is_empty() {
+    /// normals of `x₀ + D_j` minus `rest_normals` (the rest's,
+    /// [`AvatarPose::rest_normals`], computed once by the caller for all
+    /// 52), so an engine that adds weighted normal deltas and renormalizes
+    /// (SceneKit's additive morpher, glTF's morph targets) shades the shape
+    /// as it bends.
+    pub fn normal_change(&self, shape: Blendshape, rest_normals: &[Vec3]) -> Vec<Vec3> {
+        if self.shapes[shape.index()].vertices.is_empty() {
             return vec![Vec3::ZERO; self.rest.len()];
         }
-        let mut posed = self.rest.clone();
-        for (&v, d) in sparse.vertices.iter().zip(&sparse.displacements) {
-            posed[v as usize] += *d;
-        }
-        let rest = self.rest_normals();
+        let posed: Vec<Vec3> = (self.rest.iter())
+            .zip(self.displacement(shape))
+            .map(|(x, d)| *x + d)
+            .collect();
         vertex_normals(&posed, &self.triangles)
             .iter()
-            .zip(&rest)
+            .zip(rest_normals)
             .map(|(n, r)| *n - *r)
             .collect()
     }

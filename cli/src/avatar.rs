@@ -124,11 +124,15 @@ fn default_glb_bytes(name: &Path) -> Result<Vec<u8>, Box<dyn std::error::Error>>
     Ok(new_avatar_glb(&built.avatar, &options, name)?)
 }
 
-/// The default avatar as a GLB read back (so it takes the same path as a
-/// user's file).
+/// The default avatar as a GLB read: the prebuilt bytes the phone ships
+/// (`likeness-assets`, what [`default_glb_bytes`] builds, checked by
+/// `tests/tests/assets.rs`), so it takes the same path as a user's file
+/// and the app's.
 pub fn default_glb() -> Result<GlbAvatar, Box<dyn std::error::Error>> {
-    let bytes = default_glb_bytes(Path::new("default-avatar.glb"))?;
-    Ok(read_avatar_bytes(&bytes, "default avatar")?)
+    Ok(read_avatar_bytes(
+        likeness_assets::DEFAULT_AVATAR_GLB,
+        "default avatar",
+    )?)
 }
 
 /// Where `likeness demo` writes the person's avatar: in the current folder.
@@ -209,9 +213,15 @@ pub fn demo_avatar(
         (other_name, &other_face.avatar),
     ];
     let out = Path::new(DEMO_FACES);
-    let (w, h) =
-        crate::avatar_preview::write_faces(&glb.avatar, registration, &mouth_parts, &faces, out)
-            .map_err(|e| format!("{}: {e}", out.display()))?;
+    let (w, h) = crate::avatar_preview::write_faces(
+        &glb.avatar,
+        registration,
+        &mouth_parts,
+        &crate::avatar_preview::vertex_colours(&glb),
+        &faces,
+        out,
+    )
+    .map_err(|e| format!("{}: {e}", out.display()))?;
     println!(
         "Wrote {} ({w} × {h}): the default avatar's stock face, then {name}'s and {other_name}'s, each from their own neutral scan, from the front and the side.",
         out.display()
@@ -483,6 +493,7 @@ fn write_preview(
             "the person's shapes implanted by the seamless partial deformation transfer"
         },
         mouth_parts: &mouth_parts,
+        colours: &crate::avatar_preview::vertex_colours(glb),
     };
     crate::avatar_preview::write_preview(&input, dir)
 }

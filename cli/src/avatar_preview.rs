@@ -28,6 +28,8 @@ use framing::{Framing, FramingInput, framing, points_in_mask_frame, vectors_in_m
 use glam::{DVec3, Vec3};
 use legend::{About, tile_name};
 use likeness::Blendshape;
+use likeness::avatar::glb::GlbAvatar;
+use likeness::avatar::glb::look::{part_colours, srgb8};
 use likeness::avatar::registration::FaceRegistration;
 use likeness::avatar::{ArkitTargets, Avatar};
 use likeness::io::atomic_write::write_atomically;
@@ -59,6 +61,22 @@ pub struct PreviewInput<'a> {
     /// The avatar's rigid parts other than eyeballs (teeth, gums,
     /// tongue), as indices into `avatar.parts`.
     pub mouth_parts: &'a [usize],
+    /// Each vertex's colour as the file gives it ([`vertex_colours`]).
+    pub colours: &'a [Option<[u8; 3]>],
+}
+
+/// Each vertex of `glb` (its parts in order) in its own colour, sRGB, as
+/// its materials and `COLOR_0` give it; `None` where the file does not say
+/// (a texture, no material): the preview's colour for its role.
+pub fn vertex_colours(glb: &GlbAvatar) -> Vec<Option<[u8; 3]>> {
+    let parts = glb.avatar.parts.iter();
+    parts
+        .zip(part_colours(glb))
+        .flat_map(|(part, colours)| match colours {
+            Some(c) => c.iter().map(|v| Some(srgb8(*v))).collect(),
+            None => vec![None; part.positions.len()],
+        })
+        .collect()
 }
 
 /// What was written.
@@ -104,11 +122,13 @@ type Pose = Option<Option<Vec<DVec3>>>;
 /// ([`faces::faces_picture`]), written to `out` as PNG; `registration` is
 /// the face found on the stock avatar (its similarity frames every face
 /// alike), `mouth_parts` the teeth, gums and tongue (indices into
-/// `avatar.parts`). Returns the picture's size.
+/// `avatar.parts`), `colours` its vertices' own ([`vertex_colours`]).
+/// Returns the picture's size.
 pub fn write_faces(
     avatar: &Avatar,
     registration: &FaceRegistration,
     mouth_parts: &[usize],
+    colours: &[Option<[u8; 3]>],
     faces: &[(&str, &Avatar)],
     out: &Path,
 ) -> Result<(u32, u32), Box<dyn std::error::Error>> {
@@ -121,6 +141,7 @@ pub fn write_faces(
         eyeballs: &eyeballs,
         mouth_parts: &mouth_parts,
         face: &face,
+        colours,
     };
     let columns: Vec<faces::Face<'_>> = faces
         .iter()
@@ -153,7 +174,8 @@ pub fn write_preview(
         &eyeballs,
         &mouth_parts,
         &face,
-    );
+    )
+    .painted(input.colours);
 
     let own = |shape: Blendshape| -> Option<Vec<DVec3>> {
         let targets = input.found.of(shape);

@@ -174,6 +174,35 @@ fn the_preview_shows_every_shape_own_and_personalized() {
             "{set}: eyeBlinkLeft changes {still:.3} of the mouth"
         );
     }
+    // The tiles wear the file's own colours: each eye's pupil shows (and
+    // stays, an eye being one rigid body, where the shape leaves the eyes
+    // open), and the lips are red.
+    let pixels = |p: &Picture, columns: std::ops::Range<u32>, of: &dyn Fn(&[u8]) -> bool| {
+        (p.pixels.chunks_exact(3).enumerate())
+            .filter(|(i, c)| columns.contains(&(*i as u32 % p.width)) && of(c))
+            .count()
+    };
+    let pupil = |c: &[u8]| c.iter().all(|&x| x <= 30);
+    let lip = |c: &[u8]| c[0] > 120 && c[0].saturating_sub(c[1]) >= 40;
+    for set in ["own", "personalized"] {
+        for row in [
+            "neutral",
+            "jawOpen",
+            "jawOpen+mouthClose",
+            "mouthSmileLeft",
+            "cheekPuff",
+        ] {
+            let eyes = tile(row, set, "eyes");
+            let half = eyes.width / 2;
+            for side in [0..half, half..eyes.width] {
+                let dark = pixels(&eyes, side.clone(), &pupil);
+                assert!(dark >= 100, "{row} {set}: {dark} pupil pixels in {side:?}");
+            }
+        }
+        let mouth = tile("neutral", set, "mouth");
+        let red = pixels(&mouth, 0..mouth.width, &lip);
+        assert!(red >= 300, "{set}: {red} lip pixels");
+    }
     // The neutral pose is the avatar at rest in both sets.
     assert_eq!(
         tile("neutral", "own", "front").pixels,

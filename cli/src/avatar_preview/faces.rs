@@ -39,6 +39,8 @@ pub struct Meshes<'a> {
     pub mouth_parts: &'a [std::ops::Range<usize>],
     /// The face region's vertices.
     pub face: &'a [u32],
+    /// Each vertex's own colour, where the file gives it.
+    pub colours: &'a [Option<[u8; 3]>],
 }
 
 /// `p` turned a quarter turn about the vertical (y): the face's side
@@ -87,7 +89,8 @@ pub fn faces_picture(faces: &[Face<'_>], meshes: &Meshes<'_>) -> Image {
                 meshes.eyeballs,
                 meshes.mouth_parts,
                 meshes.face,
-            );
+            )
+            .painted(meshes.colours);
             let tile = scene.render(&scene.rest, std::slice::from_ref(view), false);
             picture.place(&tile, left, LINE + GAP + r as u32 * (TILE.1 + GAP));
         }
@@ -118,6 +121,7 @@ mod tests {
             eyeballs: &[],
             mouth_parts: &[],
             face: &[0, 1, 2, 3],
+            colours: &[],
         };
         let faces = [
             Face {

@@ -157,8 +157,8 @@ pub struct Scene {
     pub rest: Vec<DVec3>,
     /// Every triangle.
     pub triangles: Vec<[u32; 3]>,
-    /// Each vertex's colour before shading: skin, [`EYEBALL`] or
-    /// [`MOUTH_PARTS`].
+    /// Each vertex's colour before shading: the file's own where it says
+    /// ([`Scene::painted`]), else skin, [`EYEBALL`] or [`MOUTH_PARTS`].
     pub colours: Vec<[u8; 3]>,
     /// The face region's vertices, whose depth at rest sets the range of
     /// the depth shading in each view.
@@ -189,6 +189,18 @@ impl Scene {
             colours,
             face: face.to_vec(),
         }
+    }
+
+    /// The scene with each vertex of `own` that is `Some` in that colour
+    /// (the avatar's own materials and vertex tints, as
+    /// [`likeness::avatar::glb::look`] reads them), the rest as they were.
+    pub fn painted(mut self, own: &[Option<[u8; 3]>]) -> Scene {
+        for (c, own) in self.colours.iter_mut().zip(own) {
+            if let Some(own) = own {
+                *c = *own;
+            }
+        }
+        self
     }
 
     /// The depth (z) of the farthest and nearest face vertex at rest that

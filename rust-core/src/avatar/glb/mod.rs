@@ -16,13 +16,16 @@
 //! | | where accessors and views are referred to, renumbering | `refs.rs` |
 //! | Morph Targets | writing a read file back with new targets | [`write_back`] |
 //! | Meshes (`POSITION`, `NORMAL`, `TANGENT`) | a new rest written back, normals turned with the surface | `new_rest.rs` |
+//! | Morph Targets (`NORMAL`) | how normals turn as the surface moves; targets' normal deltas | `surface_turn.rs` |
 //! | Meshes; Materials | writing an avatar as a new GLB | [`write_new`] |
+//! | Materials (`baseColorFactor`); Meshes (`COLOR_0`) | each vertex's colour, for pictures drawn without textures | [`look`] |
 //! | | the one error type | [`error`] |
 
 mod accessor;
 mod container;
 pub mod encode;
 pub mod error;
+pub mod look;
 mod meshopt;
 mod meshopt_filters;
 mod new_rest;
@@ -31,6 +34,7 @@ mod quantization;
 pub mod read;
 mod refs;
 pub mod scene;
+mod surface_turn;
 pub mod write_back;
 pub mod write_new;
 

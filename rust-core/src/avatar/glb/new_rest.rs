@@ -7,9 +7,9 @@
 //! map's tangent frame and a deliberately bent normal survive. Each vertex's
 //! normal and tangent turn by the shortest rotation `q_v` that takes the
 //! surface's smooth normal at rest to its smooth normal on the new rest
-//! (area-weighted, [`super::write_new::vertex_normals`]), both computed
-//! with the vertices that share a position welded, so the two sides of a
-//! UV seam turn alike. In the primitive's own space a normal `n` placed by
+//! (area-weighted, both computed with the vertices that share a position
+//! welded, so the two sides of a UV seam turn alike: `surface_turn.rs`).
+//! In the primitive's own space a normal `n` placed by
 //! the linear part `L` of its node becomes `Lᵀ q_v (L⁻ᵀ n)`, normalized; a
 //! tangent `t` becomes `L⁻¹ q_v (L t)`, normalized, its handedness `w`
 //! kept. Vertices the new rest does not move keep theirs exactly.
@@ -17,41 +17,21 @@
 use super::GlbError;
 use super::accessor::Source;
 use super::encode::Builder;
-use super::write_new::vertex_normals;
+use super::surface_turn::{WeldedSurface, turned_normal};
 use glam::{Mat3, Mat4, Quat, Vec3};
 use serde_json::{Value, json};
-use std::collections::HashMap;
 
 /// The shortest rotation per vertex taking the welded smooth normal of
 /// `stock` to that of `moved` (same `triangles`); identity where a vertex
 /// did not move or has no normal.
 pub fn surface_turns(stock: &[Vec3], moved: &[Vec3], triangles: &[[u32; 3]]) -> Vec<Quat> {
-    // Weld: every vertex to the first with the same stock position.
-    let mut first: HashMap<[u32; 3], u32> = HashMap::new();
-    let welded: Vec<u32> = stock
-        .iter()
+    let turns = WeldedSurface::new(stock, triangles).turns(moved);
+    turns
+        .into_iter()
         .enumerate()
-        .map(|(i, p)| {
-            *first
-                .entry(p.to_array().map(f32::to_bits))
-                .or_insert(i as u32)
-        })
-        .collect();
-    let triangles: Vec<[u32; 3]> = triangles
-        .iter()
-        .filter(|t| t.iter().all(|&v| (v as usize) < welded.len()))
-        .map(|t| t.map(|v| welded[v as usize]))
-        .collect();
-    let before = vertex_normals(stock, &triangles);
-    let after = vertex_normals(moved, &triangles);
-    (0..stock.len())
-        .map(|v| {
-            let w = welded[v] as usize;
-            if stock.get(v) == moved.get(v) {
-                Quat::IDENTITY
-            } else {
-                Quat::from_rotation_arc(before[w], after[w])
-            }
+        .map(|(v, q)| match stock.get(v) == moved.get(v) {
+            true => Quat::IDENTITY,
+            false => q,
         })
         .collect()
 }
@@ -61,6 +41,7 @@ pub fn surface_turns(stock: &[Vec3], moved: &[Vec3], triangles: &[[u32; 3]]) -> 
 /// the primitive's space by `world`, and turns its `NORMAL` and `TANGENT`
 /// (module docs); new accessors go to `b`, numbered after
 /// `old_accessors`. `document` and `source` read the old attributes.
+/// Returns the normals written (the primitive's space), if it has them.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn write_rest(
     prim: &mut Value,
@@ -72,7 +53,7 @@ pub(crate) fn write_rest(
     stock: &[Vec3],
     moved: &[Vec3],
     triangles: &[[u32; 3]],
-) -> Result<(), GlbError> {
+) -> Result<Option<Vec<Vec3>>, GlbError> {
     let to_local = world.inverse();
     let local: Vec<Vec3> = moved
         .iter()
@@ -82,19 +63,16 @@ pub(crate) fn write_rest(
     let turns = surface_turns(stock, moved, triangles);
     let linear = Mat3::from_mat4(world);
     let inverse = linear.inverse();
+    let mut written = None;
     if let Some(accessor) = primitive.get(&gltf::Semantic::Normals) {
         let normals = source.vec3(&accessor, Some(stock.len()))?;
         let turned: Vec<Vec3> = normals
             .iter()
             .zip(&turns)
-            .map(|(n, q)| match *q == Quat::IDENTITY {
-                true => *n,
-                false => (linear.transpose() * (*q * (inverse.transpose() * *n)))
-                    .try_normalize()
-                    .unwrap_or(*n),
-            })
+            .map(|(n, q)| turned_normal(*n, *q, linear))
             .collect();
         prim["attributes"]["NORMAL"] = json!(old_accessors + b.vec3(&turned));
+        written = Some(turned);
     }
     if let Some(accessor) = primitive.get(&gltf::Semantic::Tangents) {
         let tangents = source.floats(&accessor)?;
@@ -114,7 +92,7 @@ pub(crate) fn write_rest(
             prim["attributes"]["TANGENT"] = json!(old_accessors + b.vec4(&turned));
         }
     }
-    Ok(())
+    Ok(written)
 }
 
 #[cfg(test)]

@@ -14,9 +14,11 @@
 //!
 //! New data is world space; it is taken back to the primitive's own space
 //! through the inverse of its node's linear part (a mesh placed twice is
-//! written from its first placement). New targets carry `POSITION` only:
-//! the normal and tangent displacements of a replaced target would no
-//! longer fit it and are dropped. `mesh.weights` and the `weights` of the
+//! written from its first placement). New targets carry `POSITION` and,
+//! where the primitive has normals, `NORMAL` deltas: its normals turned as
+//! the surface turns under the target (`surface_turn.rs`); the tangent
+//! displacements of a replaced target would no longer fit it and are
+//! dropped. `mesh.weights` and the `weights` of the
 //! nodes placing the mesh follow the targets (kept weights kept, new ones
 //! 0); an animation of those weights cannot follow a change in the number
 //! of targets, so that is an error. Names go to the mesh's
@@ -38,6 +40,7 @@ use super::encode::{Builder, TargetEncoding};
 use super::new_rest::write_rest;
 use super::read::document_of;
 use super::refs::{Kind, filling, place, renumber, used};
+use super::surface_turn::{WeldedSurface, all_normal_deltas};
 use super::{GlbAvatar, GlbError, container};
 use crate::arkit::{BLENDSHAPE_COUNT, Blendshape};
 use crate::avatar::target_names::{TargetName, parse_target_name};
@@ -130,10 +133,7 @@ pub fn written_back_glb(
     let old_accessors = doc["accessors"].as_array().map_or(0, Vec::len);
     let old_views = doc["bufferViews"].as_array().map_or(0, Vec::len);
     let mut b = Builder::new();
-    let document = match shapes.rest() {
-        Some(_) => Some(document_of(&avatar.json, file)?),
-        None => None,
-    };
+    let document = document_of(&avatar.json, file)?;
     let source = Source {
         file,
         buffers: &avatar.buffers,
@@ -160,27 +160,52 @@ pub fn written_back_glb(
             }) else {
                 return Err(err(format!("mesh {m} primitive {p}: not read")));
             };
-            let inverse = avatar.placements[k].linear().inverse();
+            let linear = avatar.placements[k].linear();
+            let inverse = linear.inverse();
+            let part = &avatar.avatar.parts[k];
+            let primitive = document
+                .meshes()
+                .nth(m)
+                .and_then(|mesh| mesh.primitives().nth(p))
+                .ok_or_else(|| err(format!("mesh {m} primitive {p}: not in the file")))?;
             let prim = &mut doc["meshes"][m]["primitives"][p];
-            if let (Some(rest), Some(document)) = (shapes.rest(), &document) {
-                let part = &avatar.avatar.parts[k];
-                let primitive = document
-                    .meshes()
-                    .nth(m)
-                    .and_then(|mesh| mesh.primitives().nth(p))
-                    .ok_or_else(|| err(format!("mesh {m} primitive {p}: not in the file")))?;
-                write_rest(
-                    prim,
-                    &primitive,
-                    &source,
-                    &mut b,
-                    old_accessors,
-                    avatar.placements[k].world,
-                    &part.positions,
-                    &rest[k],
-                    &part.triangles,
-                )?;
+            let (rest, normals) = match shapes.rest() {
+                Some(rest) => {
+                    let normals = write_rest(
+                        prim,
+                        &primitive,
+                        &source,
+                        &mut b,
+                        old_accessors,
+                        avatar.placements[k].world,
+                        &part.positions,
+                        &rest[k],
+                        &part.triangles,
+                    )?;
+                    (&rest[k][..], normals)
+                }
+                None => {
+                    let normals = match primitive.get(&gltf::Semantic::Normals) {
+                        Some(a) => Some(source.vec3(&a, Some(part.positions.len()))?),
+                        None => None,
+                    };
+                    (&part.positions[..], normals)
+                }
+            };
+            // The normal deltas of every target with new data, worked out
+            // together (in parallel), where the primitive has normals.
+            let mut turns = match &normals {
+                Some(normals) => {
+                    let surface = WeldedSurface::new(rest, &part.triangles);
+                    let moved: Vec<&[Vec3]> = plan
+                        .iter()
+                        .filter_map(|planned| Some(&shapes.get(planned.shape?)?[k][..]))
+                        .collect();
+                    all_normal_deltas(&surface, rest, &moved, normals, linear)
+                }
+                None => Vec::new(),
             }
+            .into_iter();
             let old = prim["targets"].as_array().cloned().unwrap_or_default();
             let mut targets = Vec::with_capacity(plan.len());
             for planned in &plan {
@@ -189,7 +214,11 @@ pub fn written_back_glb(
                         let world = shapes.get(shape).map(|s| &s[k][..]).unwrap_or(&[]);
                         let local: Vec<Vec3> = world.iter().map(|&d| inverse * d).collect();
                         let a = b.target(&local, &planned.name, encoding);
-                        json!({ "POSITION": old_accessors + a })
+                        let mut target = json!({ "POSITION": old_accessors + a });
+                        if let Some(turn) = turns.next() {
+                            target["NORMAL"] = json!(old_accessors + b.target(&turn, "", encoding));
+                        }
+                        target
                     }
                     (None, Some(t)) => old.get(t).cloned().unwrap_or_else(|| json!({})),
                     (None, None) => json!({}),

@@ -17,10 +17,12 @@
 use super::GlbError;
 use super::container;
 use super::encode::{Builder, TargetEncoding};
+pub use super::surface_turn::vertex_normals;
+use super::surface_turn::{WeldedSurface, all_normal_deltas};
 use crate::avatar::target_names::{TargetName, parse_target_name};
 use crate::avatar::{Avatar, AvatarMesh};
 use crate::io::atomic_write::write_atomically;
-use glam::Vec3;
+use glam::{Mat3, Vec3};
 use serde_json::{Value, json};
 use std::path::Path;
 
@@ -119,7 +121,7 @@ pub fn new_avatar_glb(
                 _ => materials.index(&name, mesh_look),
             };
             let position = b.vec3(&part.positions);
-            let normal = match options.part_normals.get(k) {
+            let normals = match options.part_normals.get(k) {
                 Some(Some(own)) => {
                     let unit = |n: &Vec3| (n.length() - 1.0).abs() < 1e-3;
                     if own.len() != part.positions.len() || !own.iter().all(unit) {
@@ -128,17 +130,23 @@ pub fn new_avatar_glb(
                             what: format!("part {k}: not one unit normal per vertex"),
                         });
                     }
-                    b.vec3(own)
+                    own.clone()
                 }
-                _ => b.vec3(&vertex_normals(&part.positions, &part.triangles)),
+                _ => vertex_normals(&part.positions, &part.triangles),
             };
+            let normal = b.vec3(&normals);
             let indices = b.triangles(&part.triangles);
-            let targets: Vec<Value> = part
-                .targets
-                .iter()
-                .zip(&names)
-                .map(|(d, name)| json!({ "POSITION": b.target(d, name, options.encoding) }))
-                .collect();
+            let surface = WeldedSurface::new(&part.positions, &part.triangles);
+            let moved: Vec<&[Vec3]> = part.targets.iter().map(Vec::as_slice).collect();
+            let turns =
+                all_normal_deltas(&surface, &part.positions, &moved, &normals, Mat3::IDENTITY);
+            let mut targets = Vec::with_capacity(part.targets.len());
+            for ((d, turn), name) in part.targets.iter().zip(&turns).zip(&names) {
+                targets.push(json!({
+                    "POSITION": b.target(d, name, options.encoding),
+                    "NORMAL": b.target(turn, "", options.encoding),
+                }));
+            }
             let mut p = json!({
                 "attributes": { "POSITION": position, "NORMAL": normal },
                 "indices": indices, "material": material, "mode": 4,
@@ -220,24 +228,6 @@ fn arkit_spelling(mesh: &AvatarMesh) -> Vec<String> {
             TargetName::Arkit(shape) => shape.name().to_string(),
             _ => n.clone(),
         })
-        .collect()
-}
-
-/// Area-weighted vertex normals (see the module's doc); a triangle with an
-/// index past `positions` is skipped.
-pub fn vertex_normals(positions: &[Vec3], triangles: &[[u32; 3]]) -> Vec<Vec3> {
-    let mut sum = vec![Vec3::ZERO; positions.len()];
-    for t in triangles {
-        let [Some(&a), Some(&b), Some(&c)] = t.map(|i| positions.get(i as usize)) else {
-            continue; // an index past the end: no face to weigh
-        };
-        let n = (b - a).cross(c - a);
-        for &i in t {
-            sum[i as usize] += n;
-        }
-    }
-    sum.into_iter()
-        .map(|n| n.try_normalize().unwrap_or(Vec3::Y))
         .collect()
 }
 

@@ -4,7 +4,10 @@
 //! outside the face) is rigid when every one of the avatar's own targets
 //! moves it rigidly (within [`RIGID_TOLERANCE`] of its size): eyeballs,
 //! teeth, the gums, whether each is a mesh of its own or both jaws share
-//! one ([`rigid_pieces`]). `A_j` mixes several targets, and
+//! one ([`rigid_pieces`]). Pieces that every target moves as one body and
+//! that overlap are one body, even across parts: an eye's sclera, iris and
+//! pupil, often separate primitives, turn together, or the iris would
+//! sink into the sclera where their fits differ. `A_j` mixes several targets, and
 //! a sum of rotations is not a rotation: a rigid part's displacement in a
 //! shape is replaced by the rigid motion closest to it (least squares,
 //! [`fit_rigid`]). The largest deviation from a rigid motion, before and
@@ -18,7 +21,9 @@ use glam::DVec3;
 /// A connected piece of the avatar that every own target moves rigidly.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RigidPiece {
-    /// The part (index into `Avatar::parts`) it belongs to.
+    /// The part (index into `Avatar::parts`) it was first found in (a
+    /// piece joined across parts, an eye's sclera and iris, lies in
+    /// several).
     pub part: usize,
     /// Its avatar vertices (global indices), increasing.
     pub vertices: Vec<u32>,
@@ -28,9 +33,12 @@ pub struct RigidPiece {
 /// displacements `own`): in each part not in `face_parts`, the connected
 /// components that each target moves rigidly within [`RIGID_TOLERANCE`]
 /// of their size, gathered greedily into groups that move as one rigid
-/// body (the teeth of one jaw, whether one mesh or one component each).
-/// Pieces, not parts: many rigs keep both jaws' teeth and the gums in one
-/// mesh, where only the lower arch follows `jawOpen`.
+/// body (the teeth of one jaw, whether one mesh or one component each):
+/// within a part, any such; across parts, those whose boxes at rest
+/// overlap (an eye's sclera, iris and pupil; not a static accessory that
+/// merely never moves either). Pieces, not parts: many rigs keep both
+/// jaws' teeth and the gums in one mesh, where only the lower arch follows
+/// `jawOpen`.
 pub fn rigid_pieces(
     avatar: &Avatar,
     positions: &[DVec3],
@@ -51,13 +59,16 @@ pub fn rigid_pieces(
             continue;
         }
         let o = offsets[i] as u32;
-        let first = pieces.len();
         for component in component_vertices(part.positions.len(), &part.triangles) {
             let vertices: Vec<u32> = component.into_iter().map(|v| v + o).collect();
             if !rigid(&vertices) {
                 continue;
             }
-            let joined = pieces[first..].iter_mut().find_map(|piece| {
+            let reach = bounds(positions, &vertices);
+            let near = |piece: &RigidPiece| {
+                piece.part == i || overlap(bounds(positions, &piece.vertices), reach)
+            };
+            let joined = pieces.iter_mut().filter(|p| near(p)).find_map(|piece| {
                 let mut union = piece.vertices.clone();
                 union.extend(&vertices);
                 rigid(&union).then(|| {
@@ -76,16 +87,32 @@ pub fn rigid_pieces(
 /// The parts every vertex of which lies in some piece of `pieces`.
 pub fn wholly_rigid_parts(avatar: &Avatar, pieces: &[RigidPiece]) -> Vec<usize> {
     let offsets = avatar.vertex_offsets();
+    let mut in_piece = vec![false; offsets.last().copied().unwrap_or(0)];
+    for &v in pieces.iter().flat_map(|p| &p.vertices) {
+        if let Some(slot) = in_piece.get_mut(v as usize) {
+            *slot = true;
+        }
+    }
     (0..avatar.parts.len())
         .filter(|&i| {
-            let count: usize = pieces
-                .iter()
-                .filter(|p| p.part == i)
-                .map(|p| p.vertices.len())
-                .sum();
-            count > 0 && count == offsets[i + 1] - offsets[i]
+            offsets[i] < offsets[i + 1] && in_piece[offsets[i]..offsets[i + 1]].iter().all(|&x| x)
         })
         .collect()
+}
+
+/// The box (least and greatest corner) of `vertices` at rest.
+fn bounds(rest: &[DVec3], vertices: &[u32]) -> (DVec3, DVec3) {
+    vertices
+        .iter()
+        .filter_map(|&v| rest.get(v as usize))
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(*p), hi.max(*p))
+        })
+}
+
+/// Whether two boxes share a point.
+fn overlap(a: (DVec3, DVec3), b: (DVec3, DVec3)) -> bool {
+    a.0.cmple(b.1).all() && b.0.cmple(a.1).all()
 }
 
 /// Largest deviation from a rigid motion, relative to the piece's size
@@ -192,5 +219,79 @@ mod tests {
         assert!(rigid_deviation(&rest, &doubled, &vertices) > 0.05);
         make_rigid(&rest, &mut doubled, &vertices);
         assert!(rigid_deviation(&rest, &doubled, &vertices) < 1e-12);
+    }
+
+    #[test]
+    fn an_eyes_parts_turn_as_one_body_and_a_still_far_part_stays_apart() {
+        use crate::avatar::model::{AvatarMesh, AvatarPart};
+        // A sclera (points on the unit sphere), an iris disc just inside
+        // its front as a part of its own, and a far hat; the own targets
+        // turn the eye's two parts about the centre and leave the hat.
+        let fan = |n: u32| (1..n - 1).map(|i| [0, i, i + 1]).collect::<Vec<_>>();
+        let sclera: Vec<DVec3> = (0..40)
+            .map(|i| {
+                let (t, p) = (0.3 + 2.5 * i as f64 / 40.0, 2.4 * i as f64);
+                DVec3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos())
+            })
+            .collect();
+        let iris: Vec<DVec3> = (0..12)
+            .map(|i| {
+                let a = std::f64::consts::TAU * i as f64 / 12.0;
+                DVec3::new(0.4 * a.cos(), 0.4 * a.sin(), 0.9)
+            })
+            .collect();
+        let hat: Vec<DVec3> = (0..8)
+            .map(|i| DVec3::new(5.0 + i as f64, 5.0, 5.0))
+            .collect();
+        let part = |name: &str, points: &[DVec3]| AvatarPart {
+            name: name.into(),
+            mesh: 0,
+            primitive: 0,
+            positions: points.iter().map(|p| p.as_vec3()).collect(),
+            triangles: fan(points.len() as u32),
+            targets: Vec::new(),
+        };
+        let avatar = Avatar {
+            meshes: vec![AvatarMesh {
+                name: None,
+                target_names: Vec::new(),
+            }],
+            parts: vec![
+                part("sclera", &sclera),
+                part("iris", &iris),
+                part("hat", &hat),
+            ],
+        };
+        let rest: Vec<DVec3> = [sclera, iris, hat].concat();
+        let eye = 0..52;
+        let turn = |m: DMat3| -> Vec<DVec3> {
+            (rest.iter().enumerate())
+                .map(|(v, p)| {
+                    if eye.contains(&v) {
+                        m * *p - *p
+                    } else {
+                        DVec3::ZERO
+                    }
+                })
+                .collect()
+        };
+        let own = [
+            turn(DMat3::from_rotation_x(0.3)),
+            turn(DMat3::from_rotation_y(0.3)),
+        ];
+        let pieces = rigid_pieces(&avatar, &rest, &own, &[]);
+        assert_eq!(pieces.len(), 2, "{pieces:?}");
+        assert_eq!(pieces[0].vertices, (0..52).collect::<Vec<u32>>());
+        assert_eq!(pieces[1].vertices, (52..60).collect::<Vec<u32>>());
+        assert_eq!(wholly_rigid_parts(&avatar, &pieces), [0, 1, 2]);
+        // A sum of both turns (what A_j mixes) made rigid keeps the iris
+        // where it was on the sclera.
+        let mut mixed: Vec<DVec3> = own[0].iter().zip(&own[1]).map(|(a, b)| *a + *b).collect();
+        make_rigid(&rest, &mut mixed, &pieces[0].vertices);
+        let posed = |v: usize| rest[v] + mixed[v];
+        for (s, i) in [(0, 40), (7, 45), (39, 51)] {
+            let before = rest[s].distance(rest[i]);
+            assert!((posed(s).distance(posed(i)) - before).abs() < 1e-9);
+        }
     }
 }

@@ -75,6 +75,46 @@ fn a_new_rest_replaces_positions_and_turns_normals_with_the_surface() {
 }
 
 #[test]
+fn new_targets_carry_normal_deltas_where_the_primitive_has_normals() {
+    let (mut doc, mut bin) = fixture();
+    // The head's first primitive gets normals (as in the test above); its
+    // second (the jaw) has none.
+    let normals = [0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, -1.0, 0.0, 0.0];
+    let n = push_floats(&mut doc, &mut bin, &normals, "VEC3");
+    doc["meshes"][0]["primitives"][0]["attributes"]["NORMAL"] = json!(n);
+    doc["buffers"][0]["byteLength"] = json!(bin.len());
+    let g = read_avatar_bytes(&glb(&doc, &bin), "normals.glb").unwrap();
+    // jawOpen (new to the mesh) moves the head's vertex 3 in world space as
+    // the new rest above does: its stored normal turns alike.
+    let world = head_world();
+    let mut open: Vec<Vec<Vec3>> = g
+        .avatar
+        .parts
+        .iter()
+        .map(|p| vec![Vec3::ZERO; p.positions.len()])
+        .collect();
+    open[0][3] = world.transform_point3(Vec3::new(-0.5, 0.0, 1.0)) - g.avatar.parts[0].positions[3];
+    let mut shapes = NewShapes::new();
+    shapes.set(Blendshape::JawOpen, open);
+    let bytes = written_back_glb(&g, &shapes, TargetEncoding::Dense, Path::new("n.glb")).unwrap();
+    let back = read_avatar_bytes(&bytes, "back.glb").unwrap();
+    let names = &back.avatar.meshes[0].target_names;
+    let t = names.iter().position(|n| n == "jawOpen").unwrap();
+    let head = &back.json()["meshes"][0]["primitives"][0]["targets"][t];
+    let deltas = floats(&back, &head["NORMAL"]);
+    let turned = Vec3::from_slice(&normals[9..]) + Vec3::from_slice(&deltas[9..]);
+    let want = -Vec3::new(1.0, 0.0, 0.5).normalize();
+    assert!((turned - want).length() < 1e-5, "{turned} against {want}");
+    assert_eq!(&deltas[3..6], [0.0; 3], "vertex 1's triangle did not turn");
+    // Targets kept as they were keep their attributes; the jaw, without
+    // normals, gets none.
+    let jaw = &back.json()["meshes"][0]["primitives"][1]["targets"][t];
+    assert!(jaw.get("NORMAL").is_none() && jaw.get("POSITION").is_some());
+    let kept = &back.json()["meshes"][0]["primitives"][0]["targets"][0];
+    assert!(kept.get("NORMAL").is_none());
+}
+
+#[test]
 fn a_new_rest_of_the_wrong_size_is_refused() {
     let g = read_fixture();
     let mut shapes = NewShapes::new();

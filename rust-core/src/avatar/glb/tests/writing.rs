@@ -410,3 +410,59 @@ fn parts_given_shading_normals_keep_them_and_bad_ones_are_refused() {
         );
     }
 }
+
+#[test]
+fn every_target_carries_the_normal_change_it_causes() {
+    // The unit square in z = 0, two triangles; jawOpen lifts one corner,
+    // mouthClose moves nothing.
+    let positions = vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::new(1.0, 1.0, 0.0)];
+    let triangles = vec![[0, 1, 2], [1, 3, 2]];
+    let mut lift = vec![Vec3::ZERO; 4];
+    lift[3] = Vec3::new(0.0, 0.0, 0.5);
+    let avatar = Avatar {
+        meshes: vec![AvatarMesh {
+            name: Some("skin".into()),
+            target_names: vec!["jawOpen".into(), "mouthClose".into()],
+        }],
+        parts: vec![AvatarPart {
+            name: "skin".into(),
+            mesh: 0,
+            primitive: 0,
+            positions: positions.clone(),
+            triangles: triangles.clone(),
+            targets: vec![lift.clone(), vec![Vec3::ZERO; 4]],
+        }],
+    };
+    let lifted: Vec<Vec3> = positions.iter().zip(&lift).map(|(p, d)| *p + *d).collect();
+    let want = write_new::vertex_normals(&lifted, &triangles);
+    // With the surface's own normals and with given shading normals (the
+    // flat square's, so the same turn applies), both densely written.
+    for shading in [None, Some(vec![Vec3::Z; 4])] {
+        let options = NewGlbOptions {
+            part_normals: vec![shading],
+            encoding: TargetEncoding::Dense,
+            ..Default::default()
+        };
+        let bytes = new_avatar_glb(&avatar, &options, Path::new("n.glb")).unwrap();
+        let back = read_avatar_bytes(&bytes, "n.glb").unwrap();
+        let prim = &back.json()["meshes"][0]["primitives"][0];
+        let base = floats(&back, &prim["attributes"]["NORMAL"]);
+        let open = floats(&back, &prim["targets"][0]["NORMAL"]);
+        for v in 0..4 {
+            let n = Vec3::from_slice(&base[3 * v..]) + Vec3::from_slice(&open[3 * v..]);
+            assert!(
+                (n - want[v]).length() < 1e-5,
+                "vertex {v}: {n} against {}",
+                want[v]
+            );
+        }
+        assert_eq!(&open[..3], [0.0; 3], "vertex 0's one triangle stays flat");
+        // A target that moves nothing: all zero (one sparse zero entry).
+        let still = prim["targets"][1]["NORMAL"].as_u64().unwrap() as usize;
+        let still = &back.json()["accessors"][still];
+        assert_eq!(
+            (&still["min"], &still["max"]),
+            (&json!([0.0, 0.0, 0.0]), &json!([0.0, 0.0, 0.0]))
+        );
+    }
+}

@@ -158,3 +158,41 @@ fn the_face_shades_smoothly_across_the_masks_facets() {
         "[p50, p90, p99, max]: {stats:?}"
     );
 }
+
+#[test]
+fn the_neck_under_the_chin_shades_without_streaks() {
+    // Smoothing the normals near the outline only, where the head bends to
+    // meet it, left their turn jumping at the band's jagged edge: streaks
+    // down the front of the neck (a 12 mm band: the largest turn across a
+    // triangle 0.54 rad, the surface's own 0.20). Now the written normals
+    // turn no more than the surface's own anywhere there. Head triangles
+    // in front of the neck, from under the chin to 5 cm below it.
+    let a = avatar();
+    let skin = &a.avatar.parts[a.skin];
+    let own = likeness::avatar::glb::write_new::vertex_normals(&skin.positions, &skin.triangles);
+    let face = a.true_correspondence.len() as u32;
+    let under_chin = |v: u32| {
+        let p = skin.positions[v as usize];
+        v >= face && p.z > -0.03 && p.y < -0.075 && p.y > -0.125 && p.x.abs() < 0.04
+    };
+    let turn = |n: &[Vec3], t: &[u32; 3]| {
+        (0..3)
+            .map(|k| n[t[k] as usize].angle_between(n[t[(k + 1) % 3] as usize]))
+            .fold(0.0_f32, f32::max)
+    };
+    let neck: Vec<&[u32; 3]> = (skin.triangles.iter())
+        .filter(|t| t.iter().all(|&v| under_chin(v)))
+        .collect();
+    assert!(neck.len() > 50, "{} triangles", neck.len());
+    let stats = |n: &[Vec3]| {
+        let mut v: Vec<f32> = neck.iter().map(|t| turn(n, t)).collect();
+        v.sort_by(f32::total_cmp);
+        [0.5, 0.9, 1.0].map(|q| v[((v.len() - 1) as f64 * q) as usize])
+    };
+    let (own, written) = (stats(&own), stats(&a.skin_normals));
+    eprintln!("turn across a neck triangle [p50, p90, max]: own {own:?} rad, written {written:?}");
+    assert!(
+        written[2] < 1.2 * own[2],
+        "own {own:?} rad, written {written:?}"
+    );
+}

@@ -9,10 +9,15 @@
 //! `normalize(b₀ nᵢ + b₁ nⱼ + b₂ nₖ)`, with `n` the mask's area-weighted
 //! vertex normals on its neutral. The head is sampled from a smooth
 //! implicit surface ([`super::head`]), so its own area-weighted normals
-//! serve. The two fields differ a little where they meet at the outline;
-//! within [`OUTLINE_BAND`] of it (along edges) the normals are averaged
-//! with their one-ring's [`OUTLINE_SMOOTHING`] times, so no line shows
-//! there. Only shading changes: positions and shapes stay as they are.
+//! serve, except where it bends to meet the mask's outline: that
+//! correction (Shepard's interpolation of the rim's mismatches, within
+//! [`super::head::BLEND_ANGLE`] of the rim) leaves shallow ridges between
+//! the rim points, which its own normals showed as streaks down the neck
+//! under the chin. The two fields also differ a little at the outline. So
+//! the normals are averaged with their one-ring's [`OUTLINE_SMOOTHING`]
+//! times on the face within [`OUTLINE_BAND`] of the outline (along edges)
+//! and on the head within [`HEAD_BAND`] of it: no line and no streak shows.
+//! Only shading changes: positions and shapes stay as they are.
 
 use crate::face_mask::face_mask;
 use glam::{DVec3, Vec3};
@@ -22,14 +27,21 @@ use likeness::geometry::one_ring::one_rings;
 
 use super::face::MaskPoint;
 
-/// How far from the face's outline, along the skin's edges, normals are
-/// smoothed across the join (m): three rings of the head's 4.5 mm rows.
+/// How far inside the face's outline, along the skin's edges, normals are
+/// smoothed across the join (m): seven of the face's 1.7 mm rings.
 pub const OUTLINE_BAND: f64 = 0.012;
 
-/// How many times normals in the band are averaged with their one-ring's:
-/// a diffusion reaching about `√k` rings each way, enough to spread the
-/// join's step over the band.
-pub const OUTLINE_SMOOTHING: usize = 8;
+/// How far outside the outline, along the skin's edges, the head's normals
+/// are smoothed (m): the reach of the head's bend to meet the outline
+/// ([`super::head::BLEND_ANGLE`], 0.45 rad at the 8–10 cm from the head's
+/// centre the jaw and chin lie at, about 4 cm), with a margin.
+pub const HEAD_BAND: f64 = 0.045;
+
+/// How many times normals in the bands are averaged with their one-ring's:
+/// a diffusion reaching about `√k` rings each way: 5 of the head's 5.5 mm
+/// rows, so the ridges' shading (a row or two apart) is spread out, while
+/// the head's own curvature (radii of 5 cm and more) is kept.
+pub const OUTLINE_SMOOTHING: usize = 24;
 
 /// Shading normals of the skin at `positions` (triangles `triangles`), whose
 /// first `on_mask.len()` vertices lie on the mask at `on_mask` and whose
@@ -56,10 +68,14 @@ pub fn skin_normals(
     for &v in outline {
         on_outline[v as usize] = true;
     }
-    let distance = edge_distances(positions, triangles, &on_outline, OUTLINE_BAND);
+    let distance = edge_distances(positions, triangles, &on_outline, HEAD_BAND);
     let rings = one_rings(positions.len(), triangles);
+    let reach = |v: usize| match v < on_mask.len() {
+        true => OUTLINE_BAND,
+        false => HEAD_BAND,
+    };
     let band: Vec<u32> = (0..positions.len() as u32)
-        .filter(|&v| distance[v as usize] <= OUTLINE_BAND && rings.contains_key(&v))
+        .filter(|&v| distance[v as usize] <= reach(v as usize) && rings.contains_key(&v))
         .collect();
     for _ in 0..OUTLINE_SMOOTHING {
         let next: Vec<Vec3> = band

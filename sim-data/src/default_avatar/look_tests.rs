@@ -161,9 +161,8 @@ fn the_face_shades_smoothly_across_the_masks_facets() {
 
 #[test]
 fn the_neck_under_the_chin_shades_without_streaks() {
-    // Smoothing the normals near the outline only, where the head bends to
-    // meet it, left their turn jumping at the band's jagged edge: streaks
-    // down the front of the neck (a 12 mm band: the largest turn across a
+    // Smoothing the normals only near the outline left their turn jumping
+    // at the band's jagged edge: streaks down the front of the neck (a 12 mm band: the largest turn across a
     // triangle 0.54 rad, the surface's own 0.20). Now the written normals
     // turn no more than the surface's own anywhere there. Head triangles
     // in front of the neck, from under the chin to 5 cm below it.

@@ -9,15 +9,16 @@
 //! `normalize(b₀ nᵢ + b₁ nⱼ + b₂ nₖ)`, with `n` the mask's area-weighted
 //! vertex normals on its neutral. The head is sampled from a smooth
 //! implicit surface ([`super::head`]), so its own area-weighted normals
-//! serve, except where it bends to meet the mask's outline: that
-//! correction (Shepard's interpolation of the rim's mismatches, within
-//! [`super::head::BLEND_ANGLE`] of the rim) leaves shallow ridges between
-//! the rim points, which its own normals showed as streaks down the neck
-//! under the chin. The two fields also differ a little at the outline. So
-//! the normals are averaged with their one-ring's [`OUTLINE_SMOOTHING`]
-//! times on the face within [`OUTLINE_BAND`] of the outline (along edges)
-//! and on the head within [`HEAD_BAND`] of it: no line and no streak shows.
-//! Only shading changes: positions and shapes stay as they are.
+//! serve. The two fields differ where they meet at the outline, so the
+//! normals are averaged with their one-ring's [`OUTLINE_SMOOTHING`] times
+//! on the face within [`OUTLINE_BAND`] of the outline (along edges) and on
+//! the head within [`HEAD_BAND`] of it. The head's band must be wide: the
+//! smoothed field has to meet the head's own normals where they agree
+//! again, or the band's edge (jagged, as it follows the mesh's edges)
+//! shows. A band of 12 mm on both sides did: streaks down the neck under
+//! the chin, where the written normals turned up to 0.54 rad across a
+//! triangle against the surface's own 0.20. Only shading changes:
+//! positions and shapes stay as they are.
 
 use crate::face_mask::face_mask;
 use glam::{DVec3, Vec3};
@@ -34,13 +35,14 @@ pub const OUTLINE_BAND: f64 = 0.012;
 /// How far outside the outline, along the skin's edges, the head's normals
 /// are smoothed (m): the reach of the head's bend to meet the outline
 /// ([`super::head::BLEND_ANGLE`], 0.45 rad at the 8–10 cm from the head's
-/// centre the jaw and chin lie at, about 4 cm), with a margin.
+/// centre the jaw and chin lie at, about 4 cm), with a margin: beyond it
+/// the head is its own implicit surface and its normals need no help.
 pub const HEAD_BAND: f64 = 0.045;
 
 /// How many times normals in the bands are averaged with their one-ring's:
 /// a diffusion reaching about `√k` rings each way: 5 of the head's 5.5 mm
-/// rows, so the ridges' shading (a row or two apart) is spread out, while
-/// the head's own curvature (radii of 5 cm and more) is kept.
+/// rows, so the join's difference is spread over the band, while the
+/// head's own curvature (radii of 5 cm and more) is kept.
 pub const OUTLINE_SMOOTHING: usize = 24;
 
 /// Shading normals of the skin at `positions` (triangles `triangles`), whose

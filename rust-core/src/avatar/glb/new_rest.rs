@@ -17,7 +17,7 @@
 use super::GlbError;
 use super::accessor::Source;
 use super::encode::Builder;
-use super::surface_turn::{WeldedSurface, turned_normal};
+use super::surface_turn::{Placed, WeldedSurface};
 use glam::{Mat3, Mat4, Quat, Vec3};
 use serde_json::{Value, json};
 
@@ -66,10 +66,11 @@ pub(crate) fn write_rest(
     let mut written = None;
     if let Some(accessor) = primitive.get(&gltf::Semantic::Normals) {
         let normals = source.vec3(&accessor, Some(stock.len()))?;
+        let placed = Placed::new(linear);
         let turned: Vec<Vec3> = normals
             .iter()
             .zip(&turns)
-            .map(|(n, q)| turned_normal(*n, *q, linear))
+            .map(|(n, q)| placed.turned(*n, *q))
             .collect();
         prim["attributes"]["NORMAL"] = json!(old_accessors + b.vec3(&turned));
         written = Some(turned);

@@ -93,29 +93,26 @@ impl WeldedSurface {
     }
 }
 
-/// Normal `n` (a primitive's own space, placed by the linear part `linear`)
-/// turned by the world rotation `q`: `Lᵀ q (L⁻ᵀ n)`, normalized; `n` itself
-/// where `q` is the identity or the result degenerate.
-pub fn turned_normal(n: Vec3, q: Quat, linear: Mat3) -> Vec3 {
-    Placed::new(linear).turned(n, q)
-}
-
-/// A primitive's linear placement `L` with `Lᵀ` and `L⁻ᵀ` worked out once.
-struct Placed {
+/// A primitive's linear placement `L` (the linear part of the node placing
+/// it), with `Lᵀ` and `L⁻ᵀ` worked out once for all its normals.
+pub struct Placed {
     transpose: Mat3,
     inverse_transpose: Mat3,
 }
 
 impl Placed {
-    fn new(linear: Mat3) -> Placed {
+    /// The placement by `linear`.
+    pub fn new(linear: Mat3) -> Placed {
         Placed {
             transpose: linear.transpose(),
             inverse_transpose: linear.inverse().transpose(),
         }
     }
 
-    /// [`turned_normal`].
-    fn turned(&self, n: Vec3, q: Quat) -> Vec3 {
+    /// Normal `n` (the primitive's own space) turned by the world rotation
+    /// `q`: `Lᵀ q (L⁻ᵀ n)`, normalized; `n` itself where `q` is the
+    /// identity or the result degenerate.
+    pub fn turned(&self, n: Vec3, q: Quat) -> Vec3 {
         if q == Quat::IDENTITY {
             return n;
         }
@@ -242,10 +239,11 @@ mod tests {
         let linear = Mat3::from_diagonal(Vec3::new(2.0, 1.0, 1.0));
         let q = Quat::from_rotation_y(0.3);
         let n = Vec3::Z;
-        let turned = turned_normal(n, q, linear);
+        let placed = Placed::new(linear);
+        let turned = placed.turned(n, q);
         let world = q * Vec3::Z;
         let expected = (linear.transpose() * world).normalize();
         assert!((turned - expected).length() < 1e-6);
-        assert_eq!(turned_normal(n, Quat::IDENTITY, linear), n);
+        assert_eq!(placed.turned(n, Quat::IDENTITY), n);
     }
 }

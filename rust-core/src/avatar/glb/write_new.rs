@@ -121,7 +121,8 @@ pub fn new_avatar_glb(
                 _ => materials.index(&name, mesh_look),
             };
             let position = b.vec3(&part.positions);
-            let normals = match options.part_normals.get(k) {
+            let surface_normals;
+            let normals: &[Vec3] = match options.part_normals.get(k) {
                 Some(Some(own)) => {
                     let unit = |n: &Vec3| (n.length() - 1.0).abs() < 1e-3;
                     if own.len() != part.positions.len() || !own.iter().all(unit) {
@@ -130,16 +131,19 @@ pub fn new_avatar_glb(
                             what: format!("part {k}: not one unit normal per vertex"),
                         });
                     }
-                    own.clone()
+                    own
                 }
-                _ => vertex_normals(&part.positions, &part.triangles),
+                _ => {
+                    surface_normals = vertex_normals(&part.positions, &part.triangles);
+                    &surface_normals
+                }
             };
-            let normal = b.vec3(&normals);
+            let normal = b.vec3(normals);
             let indices = b.triangles(&part.triangles);
             let surface = WeldedSurface::new(&part.positions, &part.triangles);
             let moved: Vec<&[Vec3]> = part.targets.iter().map(Vec::as_slice).collect();
             let turns =
-                all_normal_deltas(&surface, &part.positions, &moved, &normals, Mat3::IDENTITY);
+                all_normal_deltas(&surface, &part.positions, &moved, normals, Mat3::IDENTITY);
             let mut targets = Vec::with_capacity(part.targets.len());
             for ((d, turn), name) in part.targets.iter().zip(&turns).zip(&names) {
                 targets.push(json!({

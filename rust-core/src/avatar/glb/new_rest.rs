@@ -102,17 +102,9 @@ mod tests {
 
     #[test]
     fn a_turned_patch_turns_its_normals_and_a_still_one_keeps_them() {
-        // Two triangles of a square in z = 0, the second corner vertex
-        // split in two (a UV seam): lifting one far corner turns the
-        // surface there, and both halves of the seam turn alike.
-        let stock = vec![
-            Vec3::ZERO,
-            Vec3::X,
-            Vec3::Y,
-            Vec3::new(1.0, 1.0, 0.0),
-            Vec3::X,
-        ];
-        let triangles = [[0, 1, 2], [4, 3, 2]];
+        // Lifting one far corner of the seam square turns the surface
+        // there, and both halves of the seam turn alike.
+        let (stock, triangles) = super::super::surface_turn::seam_square();
         let mut moved = stock.clone();
         let still = surface_turns(&stock, &moved, &triangles);
         assert!(still.iter().all(|q| *q == Quat::IDENTITY));

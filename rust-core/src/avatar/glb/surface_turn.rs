@@ -185,26 +185,28 @@ fn deltas(
         .collect()
 }
 
+/// Two triangles of the unit square in z = 0, the corner at x = 1, y = 0
+/// split in two (vertices 1 and 4, a UV seam): the fixture of this
+/// module's tests and of [`super::new_rest`]'s.
+#[cfg(test)]
+pub(super) fn seam_square() -> (Vec<Vec3>, [[u32; 3]; 2]) {
+    let rest = vec![
+        Vec3::ZERO,
+        Vec3::X,
+        Vec3::Y,
+        Vec3::new(1.0, 1.0, 0.0),
+        Vec3::X,
+    ];
+    (rest, [[0, 1, 2], [4, 3, 2]])
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    /// Two triangles of the unit square in z = 0, the corner at x = 1,
-    /// y = 0 split in two (vertices 1 and 4, a UV seam).
-    fn square() -> (Vec<Vec3>, [[u32; 3]; 2]) {
-        let rest = vec![
-            Vec3::ZERO,
-            Vec3::X,
-            Vec3::Y,
-            Vec3::new(1.0, 1.0, 0.0),
-            Vec3::X,
-        ];
-        (rest, [[0, 1, 2], [4, 3, 2]])
-    }
-
     #[test]
     fn a_bend_turns_the_normals_around_it_and_both_sides_of_a_seam_alike() {
-        let (rest, triangles) = square();
+        let (rest, triangles) = seam_square();
         let surface = WeldedSurface::new(&rest, &triangles);
         let normals = vec![Vec3::Z; rest.len()];
         let one = |d: &[Vec3]| {

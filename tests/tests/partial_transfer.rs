@@ -552,3 +552,81 @@ fn beyond_the_blend_margin_the_avatar_follows_a_j_exactly() {
         );
     }
 }
+
+/// Each lip takes its own motion up to the mouth's slit
+/// (`registration::lip_sides`): on committed subject 1 implanted into the
+/// default avatar, every face vertex the map takes moves as the person's
+/// mask does at the vertex's true point on it, within 0.3 mm, in the
+/// shapes that move the lips apart or together (a vertex of one lip given
+/// the other's motion would be off by the mouth's opening, up to 21 mm in
+/// jawOpen). The lips' edges are taken (nine in ten at least) but within
+/// 3 mm of the corners, where the lips meet (measured: 0.17 mm at most,
+/// mouthPucker; 2 of the edges' 62 vertices left to step 2; 538 of
+/// the face's vertices left to step 2 in all, the lids' margins and the
+/// corners, against 658 before).
+#[test]
+fn each_lip_moves_as_the_persons_up_to_the_slit() {
+    let subject = implanted_subject::implanted_subject(1);
+    let built = default_avatar();
+    let tris = face_mask().topology.triangles();
+    let start = built.avatar.vertex_offsets()[built.skin];
+    let taken: std::collections::HashSet<usize> = subject
+        .found
+        .map
+        .face
+        .iter()
+        .map(|f| f.vertex as usize)
+        .collect();
+    let positions = &built.avatar.parts[built.skin].positions;
+    for shape in [
+        Blendshape::JawOpen,
+        Blendshape::MouthClose,
+        Blendshape::MouthPucker,
+        Blendshape::MouthSmileLeft,
+        Blendshape::MouthFunnel,
+    ] {
+        let delta = subject.person.delta(shape);
+        let got = &subject.implanted.shapes[shape.index()];
+        let mut worst = (0.0f64, 0usize);
+        for (v, m) in built.true_correspondence.iter().enumerate() {
+            if !taken.contains(&(start + v)) {
+                continue;
+            }
+            let t = tris[m.triangle as usize];
+            let truth: glam::DVec3 = (0..3)
+                .map(|k| m.barycentric[k] * delta[t[k] as usize])
+                .sum();
+            let off = (got[start + v].as_dvec3() - truth).length();
+            if off > worst.0 {
+                worst = (off, v);
+            }
+        }
+        eprintln!(
+            "{shape}: taken face vertices within {:.3} mm of the person's motion (worst at {:?})",
+            worst.0 * 1e3,
+            positions[worst.1]
+        );
+        assert!(worst.0 < 3e-4, "{shape}: {:.3} mm off", worst.0 * 1e3);
+    }
+    // The mouth's edges (the skin's boundary loop round the mouth) are
+    // taken, but near the corners.
+    let mouth_y = likeness_sim::face_mask::MOUTH_CENTRE[1] as f32;
+    let half_width = likeness_sim::face_mask::MOUTH_HALF_WIDTH as f32;
+    let edges: Vec<usize> = (0..built.true_correspondence.len())
+        .filter(|&v| {
+            let p = positions[v];
+            (p.y - mouth_y).abs() < 4e-4 && p.x.abs() < half_width - 0.003
+        })
+        .collect();
+    assert!(edges.len() > 20, "{} lip edge vertices", edges.len());
+    let left = edges
+        .iter()
+        .filter(|v| !taken.contains(&(start + **v)))
+        .count();
+    eprintln!("lip edges: {} of {} left to step 2", left, edges.len());
+    assert!(
+        left * 10 <= edges.len(),
+        "lip edges left to step 2: {left} of {}",
+        edges.len()
+    );
+}

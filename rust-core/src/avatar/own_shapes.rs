@@ -14,7 +14,9 @@
 //!
 //! with `v_ik`, `β_ik` the corners and barycentrics of the avatar point
 //! closest to registered mask vertex `i` among those facing the same way
-//! (normals within 60°), and `ε` [`POINT_PULL`] times the mean diagonal of
+//! (normals within 60°; for a mask vertex on one lip's edge, away from the
+//! other lip's skin, [`crate::avatar::registration::lip_sides`]), and `ε`
+//! [`POINT_PULL`] times the mean diagonal of
 //! `MᵀM`. A vertex the map does not see (the rims of the eye and mouth
 //! holes, beyond the face region) takes `f(p_i)`. `MᵀM + εI` depends only
 //! on the registration: factored once, each field is one solve.
@@ -188,14 +190,37 @@ pub fn skin_points(
         &registration.mask_on_avatar,
         &registration.map.mask_triangles,
     );
+    // A mask vertex on one lip's edge takes a point of that lip: the lips
+    // lie against each other at the slit, and the other lip's skin can be
+    // nearer (a coarse avatar's lip triangles reach across the gap).
+    let lips = registration.lip_sides();
+    let mut vertex_lips = vec![0u8; positions.len()];
+    for f in &registration.map.face {
+        if let (Some(l), Some(t)) = (
+            vertex_lips.get_mut(f.vertex as usize),
+            registration.map.mask_triangles.get(f.triangle as usize),
+        ) {
+            *l = lips.lips_of(*t);
+        }
+    }
+    let other_lip = |t: usize, lip: Option<u8>| {
+        let Some(lip) = lip else { return false };
+        grid.triangles()[t]
+            .iter()
+            .any(|&v| vertex_lips.get(v as usize).is_some_and(|l| *l == 3 & !lip))
+    };
     registration
         .mask_on_avatar
         .iter()
         .zip(&normals)
-        .map(|(p, n)| {
-            grid.closest_facing(*p, *n, MIN_NORMAL_DOT, f64::INFINITY)
-                .or_else(|| grid.closest(*p))
-                .map(|c| (grid.triangles()[c.triangle], c.barycentric))
+        .enumerate()
+        .map(|(i, (p, n))| {
+            let lip = lips.lip_of_vertex(i as u32);
+            grid.closest_where(*p, f64::INFINITY, |t| {
+                grid.triangle_normal(t).dot(*n) >= MIN_NORMAL_DOT && !other_lip(t, lip)
+            })
+            .or_else(|| grid.closest(*p))
+            .map(|c| (grid.triangles()[c.triangle], c.barycentric))
         })
         .collect()
 }

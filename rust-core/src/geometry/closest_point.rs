@@ -181,7 +181,7 @@ impl TriangleGrid {
     /// The closest point of `p` within `max_distance` among the triangles
     /// `accept` takes: shells of cells outwards until the next shell is
     /// farther than the best found (module docs).
-    fn closest_where(
+    pub fn closest_where(
         &self,
         p: DVec3,
         max_distance: f64,

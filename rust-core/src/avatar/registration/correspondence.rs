@@ -11,21 +11,28 @@
 //! the mask's boundary (the outline, the eye holes, the mouth slit), where
 //! a closest point only means that the vertex lies beyond the mask.
 //!
-//! Nor on a triangle at the rim of a hole: at the mouth's slit and the
-//! lids' margins the mask's rim triangles lie against the other side's
-//! (the upper lip's against the lower's), and an avatar vertex there takes
-//! a mix of both sides' motion that tore the lips of ICT-FaceKit in
-//! `jawOpen`. The region stops one mask triangle (1–2 mm) short of the
-//! holes' rims (the outline has no other side and keeps its triangles),
-//! and step 2 of the transfer carries the avatar's own rig across
-//! the band ([`crate::avatar::partial_transfer::adjacent_step`]). The
+//! At the mouth's slit and the lids' margins the mask's rim triangles lie
+//! against the other side's (the upper lip's against the lower's), and an
+//! avatar vertex there can find the other side's triangle closest: taking
+//! its motion tore the lips of ICT-FaceKit in `jawOpen`. So at the lids
+//! the region stops one mask triangle (1–2 mm) short of the margins, and
+//! step 2 of the transfer carries the avatar's own rig across the band
+//! ([`crate::avatar::partial_transfer::adjacent_step`]; the lids' contacts
+//! close it). At the mouth each lip grows from the region to the slit, a
+//! ring of the avatar's mesh at a time: a vertex whose taken neighbours
+//! lie on one lip only takes its closest point among that lip's triangles
+//! ([`super::lip_sides`]), so the lips' edges move as the person's do.
+//! Beside the corners, where the lips meet, the band remains. The
 //! normals keep the lining of the lips, the inside of the nostrils and
 //! of the lids out of the region: they face away from the mask's skin,
 //! and a lining vertex of the upper lip would otherwise take the lower
 //! lip's motion, which lies as near at the mouth's slit.
 
+use super::lip_sides::LipSides;
+use super::mask_holes::{boundary_edges, hole_rims, mouth_rim};
 use super::nonrigid::MIN_NORMAL_DOT;
 use crate::geometry::closest_point::TriangleGrid;
+use crate::geometry::one_ring::one_rings;
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 use std::collections::{HashMap, HashSet};
@@ -75,43 +82,116 @@ impl CorrespondenceMap {
 /// vertex is in the face region when its closest compatible mask point is
 /// within `tolerance` and not on the mask's boundary (module docs). A
 /// vertex without a normal (no triangle) takes the plain closest point.
+/// `avatar_triangles` (the face parts') tell which lip a vertex at the
+/// mouth's slit belongs to.
 pub fn correspondence_map(
     candidates: impl Iterator<Item = (usize, DVec3, DVec3)>,
     mask: &[DVec3],
     triangles: &[[u32; 3]],
     tolerance: f64,
+    avatar_triangles: &[[u32; 3]],
 ) -> CorrespondenceMap {
     let grid = TriangleGrid::new(mask, triangles);
     let boundary = boundary_edges(triangles);
     let on_outline: HashSet<u32> = boundary.iter().flat_map(|(a, b)| [*a, *b]).collect();
     let rims = hole_rims(mask, &boundary);
-    let face = candidates
-        .filter_map(|(v, p, normal)| {
-            let c = if normal == DVec3::ZERO {
-                grid.closest_within(p, tolerance)?
-            } else {
-                grid.closest_facing(p, normal, MIN_NORMAL_DOT, tolerance)?
-            };
-            let t = grid.triangles()[c.triangle];
-            let b = c.barycentric;
-            // On a triangle at a hole's rim: the mask's slit and lid
-            // margins carry both sides' motion there, so the region stops
-            // one mask triangle short of them (module docs).
-            if t.iter().any(|v| rims.contains(v)) {
-                return None;
+    let mouth = mouth_rim(mask, &boundary);
+    let lips = LipSides::new(mask, grid.triangles(), &boundary, &mouth);
+    // The mouth's rim edges are no edge of the mask's surface to a vertex
+    // lying on them: they are the lips' own edges.
+    let beyond: HashSet<(u32, u32)> = boundary
+        .iter()
+        .filter(|(a, b)| !(mouth.contains(a) && mouth.contains(b)))
+        .copied()
+        .collect();
+    let mut face = Vec::new();
+    // Vertices whose closest point lies on a lip's triangle at the slit:
+    // taken once their neighbours tell their lip.
+    let mut at_slit: Vec<(usize, DVec3, DVec3)> = Vec::new();
+    for (v, p, normal) in candidates {
+        let closest = if normal == DVec3::ZERO {
+            grid.closest_within(p, tolerance)
+        } else {
+            grid.closest_facing(p, normal, MIN_NORMAL_DOT, tolerance)
+        };
+        let Some(c) = closest else { continue };
+        let t = grid.triangles()[c.triangle];
+        let b = c.barycentric;
+        // On the outline itself, the closest point only means that the
+        // vertex lies beyond the mask.
+        if on_boundary(t, b, &beyond, &on_outline) {
+            continue;
+        }
+        // On a triangle at a hole's rim: the region stops one mask
+        // triangle short of the lids' margins (module docs); at the
+        // mouth's slit it takes a triangle of the vertex's own lip.
+        if t.iter().any(|v| rims.contains(v)) {
+            if lips.slit_triangle(t).is_some() {
+                at_slit.push((v, p, normal));
             }
-            // On the outline itself, the closest point only means that the
-            // vertex lies beyond the mask.
-            if on_boundary(t, b, &boundary, &on_outline) {
-                return None;
-            }
-            Some(FaceVertex {
-                vertex: v as u32,
-                triangle: c.triangle as u32,
-                barycentric: b,
-            })
+            continue;
+        }
+        face.push(FaceVertex {
+            vertex: v as u32,
+            triangle: c.triangle as u32,
+            barycentric: b,
+        });
+    }
+    // Each lip grows from the region inwards to the slit, a ring at a
+    // time: a vertex whose taken neighbours lie on one lip only (beside
+    // the corners they lie on both) takes its closest point among that
+    // lip's triangles and those off the rims.
+    let mut lip_of: HashMap<u32, u8> = face
+        .iter()
+        .map(|f| {
+            (
+                f.vertex,
+                lips.lips_of(grid.triangles()[f.triangle as usize]),
+            )
         })
         .collect();
+    let neighbours = one_rings(usize::MAX, avatar_triangles);
+    let on_lip = |v: usize, p: DVec3, normal: DVec3, lip: u8| {
+        let t = grid.closest_where(p, tolerance, |k| {
+            let t = grid.triangles()[k];
+            let compatible =
+                normal == DVec3::ZERO || grid.triangle_normal(k).dot(normal) >= MIN_NORMAL_DOT;
+            let own = lips.slit_triangle(t) == Some(lip) || !t.iter().any(|v| rims.contains(v));
+            compatible && own
+        })?;
+        let tri = grid.triangles()[t.triangle];
+        (!on_boundary(tri, t.barycentric, &beyond, &on_outline)).then_some(FaceVertex {
+            vertex: v as u32,
+            triangle: t.triangle as u32,
+            barycentric: t.barycentric,
+        })
+    };
+    loop {
+        let mut taken = Vec::new();
+        at_slit.retain(|&(v, p, normal)| {
+            let lip = neighbours
+                .get(&(v as u32))
+                .into_iter()
+                .flatten()
+                .filter_map(|n| lip_of.get(n))
+                .fold(0u8, |acc, b| acc | b);
+            if lip != 1 && lip != 2 {
+                return true;
+            }
+            if let Some(f) = on_lip(v, p, normal, lip) {
+                taken.push((f, lip));
+            }
+            false
+        });
+        if taken.is_empty() {
+            break;
+        }
+        for (f, lip) in taken {
+            lip_of.insert(f.vertex, lip);
+            face.push(f);
+        }
+    }
+    face.sort_by_key(|f| f.vertex);
     CorrespondenceMap {
         mask_triangles: grid.triangles().to_vec(),
         face,
@@ -132,60 +212,4 @@ fn on_boundary(
         (b[k] >= 1.0 - ON && vertices.contains(&t[k]))
             || (b[k] <= ON && boundary.contains(&(i.min(j), i.max(j))))
     })
-}
-
-/// The vertices on the rims of the mask's holes (the eyes, the mouth): the
-/// boundary's connected pieces but the one of the largest extent, the
-/// outline.
-pub fn hole_rims(mask: &[DVec3], boundary: &HashSet<(u32, u32)>) -> HashSet<u32> {
-    let mut next: HashMap<u32, Vec<u32>> = HashMap::new();
-    for &(a, b) in boundary {
-        next.entry(a).or_default().push(b);
-        next.entry(b).or_default().push(a);
-    }
-    let mut seen: HashSet<u32> = HashSet::new();
-    let mut pieces: Vec<Vec<u32>> = Vec::new();
-    for &start in next.keys() {
-        if !seen.insert(start) {
-            continue;
-        }
-        let mut piece = vec![start];
-        let mut k = 0;
-        while k < piece.len() {
-            for &n in &next[&piece[k]] {
-                if seen.insert(n) {
-                    piece.push(n);
-                }
-            }
-            k += 1;
-        }
-        pieces.push(piece);
-    }
-    let extent = |piece: &[u32]| {
-        let at = |v: u32| mask.get(v as usize).copied().unwrap_or_default();
-        let (lo, hi) = piece.iter().fold(
-            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-            |(lo, hi), &v| (lo.min(at(v)), hi.max(at(v))),
-        );
-        (hi - lo).length()
-    };
-    pieces.sort_by(|a, b| extent(a).total_cmp(&extent(b)));
-    pieces.pop();
-    pieces.into_iter().flatten().collect()
-}
-
-/// The edges used by exactly one triangle, `(min, max)`.
-pub fn boundary_edges(triangles: &[[u32; 3]]) -> HashSet<(u32, u32)> {
-    let mut count: HashMap<(u32, u32), usize> = HashMap::new();
-    for t in triangles {
-        for k in 0..3 {
-            let (a, b) = (t[k], t[(k + 1) % 3]);
-            *count.entry((a.min(b), a.max(b))).or_default() += 1;
-        }
-    }
-    count
-        .into_iter()
-        .filter(|(_, c)| *c == 1)
-        .map(|(e, _)| e)
-        .collect()
 }

@@ -32,6 +32,7 @@
 use super::correspondence::{CorrespondenceMap, correspondence_map};
 use super::eyeballs::find_eyeballs;
 use super::features::{HELD, REQUIRED, feature_weights, rig_features};
+use super::lip_sides::LipSides;
 use super::nonrigid::{Landmark, MIN_NORMAL_DOT, SEARCH_RADIUS, register_nonrigid, vertex_normals};
 use super::rigid_icp::icp_with_scale;
 use super::similarity::{Similarity, fit_similarity};
@@ -156,6 +157,14 @@ pub struct FaceRegistration {
     pub face_parts: Vec<usize>,
     /// Time the registration took (s).
     pub seconds: f64,
+}
+
+impl FaceRegistration {
+    /// The registered mask's lips ([`LipSides`]), for keeping each lip's
+    /// motion on its own side of the mouth's slit.
+    pub fn lip_sides(&self) -> LipSides {
+        LipSides::of_mask(&self.mask_on_avatar, &self.map.mask_triangles)
+    }
 }
 
 /// The displacement of every avatar vertex under ARKit shape `shape` (its
@@ -349,7 +358,8 @@ pub fn find_face(
     let face_parts: Vec<usize> = (0..avatar.parts.len())
         .filter(|&i| hits[i] as f64 >= needed)
         .collect();
-    let avatar_normals = vertex_normals(&positions, &avatar.triangles_of(&face_parts));
+    let face_triangles = avatar.triangles_of(&face_parts);
+    let avatar_normals = vertex_normals(&positions, &face_triangles);
     let candidates = face_parts
         .iter()
         .flat_map(|&i| offsets[i]..offsets[i + 1])
@@ -360,6 +370,7 @@ pub fn find_face(
         &registered.positions,
         mask.triangles(),
         FACE_TOLERANCE_MM / to_mm,
+        &face_triangles,
     );
     let eyeball_parts = (0..avatar.parts.len())
         .filter(|&i| offsets[i] < offsets[i + 1])
@@ -411,7 +422,7 @@ fn uncovered_region(neutral: &[DVec3], kept: &[bool]) -> String {
 
 /// Version of the registration's rules: part of the cache key, so a cached
 /// result from older rules is never taken for a new one.
-pub const REGISTRATION_VERSION: u32 = 3;
+pub const REGISTRATION_VERSION: u32 = 4;
 
 /// The key a registration is cached under: the rules' version, the
 /// avatar's vertex count and a CRC-32 of its rest geometry and triangles

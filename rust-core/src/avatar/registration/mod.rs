@@ -10,6 +10,8 @@
 //! | §3.3 "non-rigid registration \[1\]"; optimal-step NICP (Amberg et al. 2007) | the mask laid onto the avatar's skin, features as landmarks | [`nonrigid`] |
 //! | §3.3 "eye balls", on any rig | eyeballs found by their shape, behind the lids | [`eyeballs`] |
 //! | §3.3 "correspondence map M" | avatar face vertices → mask triangle + barycentrics | [`correspondence`] |
+//! | §3.3, the mask's own shape | its outline, eye openings and mouth slit | [`mask_holes`] |
+//! | (beyond the paper) each lip takes its own lip's motion at the mouth's slit | which lip a mask triangle at the slit belongs to | [`lip_sides`] |
 //! | §3.3, once per avatar topology | the whole search, its report and errors, the cache key | [`mod@find_face`] |
 //! | §3.3 "computed only once" | the registration kept in a file per avatar | [`cache`] |
 pub mod cache;
@@ -17,6 +19,8 @@ pub mod correspondence;
 pub mod eyeballs;
 pub mod features;
 pub mod find_face;
+pub mod lip_sides;
+pub mod mask_holes;
 pub mod nonrigid;
 pub mod rigid_icp;
 pub mod similarity;

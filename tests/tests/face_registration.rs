@@ -305,7 +305,8 @@ fn retargeting_reproduces_the_template_by_its_own_targets_in_any_units() {
 }
 
 /// The registration is kept per avatar: stored, loaded back equal, keyed
-/// by the geometry (another avatar misses), and a damaged file is a miss.
+/// by the geometry and the shapes of both (another avatar, or the same
+/// one with other shapes, misses), and a damaged file is a miss.
 #[test]
 fn a_registration_is_cached_by_the_avatars_geometry() {
     use likeness::avatar::registration::cache::{cache_path, load, store};
@@ -323,6 +324,21 @@ fn a_registration_is_cached_by_the_avatars_geometry() {
     let other = cache_key(&moved, &rig());
     assert_ne!(other, key);
     assert_eq!(load(&dir, &other), None);
+    // The same rest with its shapes changed (a jawOpen made rounder), or
+    // the mask's shapes changed, is found again: the features are where
+    // the shapes move most.
+    let mut reshaped = avatar.clone();
+    let jaw = reshaped.meshes[0]
+        .target_names
+        .iter()
+        .position(|n| n == "jawOpen")
+        .expect("a jawOpen");
+    reshaped.parts[0].targets[jaw][0] += Vec3::splat(1e-4);
+    assert_ne!(cache_key(&reshaped, &rig()), key);
+    let mut deltas = rig().deltas().to_vec();
+    deltas[0][0] += DVec3::splat(1e-4);
+    let other_rig = Blendshapes::new(rig().neutral().to_vec(), deltas).expect("a rig");
+    assert_ne!(cache_key(&avatar, &other_rig), key);
     let path = cache_path(&dir, &key);
     let bytes = std::fs::read(&path).expect("written");
     std::fs::write(&path, &bytes[..bytes.len() / 2]).expect("truncates");
@@ -431,10 +447,11 @@ fn the_default_avatars_face_is_found_where_it_truly_is() {
     }
 }
 
-/// Eq. (4) on the default avatar with the generic template as `B_j`: the
-/// avatar's own targets are the template interpolated on its face and
-/// continued past the mask, so each `A_j` is the avatar's own target of
-/// that name (weight 1 within 1%, every other weight within 1% of 0).
+/// Eq. (4) on the default avatar with its own rig on the mask as `B_j`
+/// (`DefaultAvatar::own_rig_on_mask`, the generic template with jawOpen
+/// rounded at the mask's vertices): the avatar's own targets are that rig
+/// interpolated on its face and continued past the mask, so each `A_j` is
+/// the avatar's own target of that name (weight 1 within 1%, every other weight within 1% of 0).
 /// The residual is compared at the mask's resolution (`M S(B̃_i)`), where
 /// the fit's pull towards the skin's point values leaves shapes that
 /// barely move the face region (mouthRoll*) up to 57% of their small
@@ -444,7 +461,7 @@ fn retargeting_the_template_onto_the_default_avatar_reproduces_it() {
     use likeness::avatar::retargeting::retarget;
     use likeness_sim::default_avatar::default_avatar;
     let built = default_avatar();
-    let rig = rig();
+    let rig = built.own_rig_on_mask();
     let found = find_face(&built.avatar, &face_mask().topology, &rig).expect("a face");
     let started = std::time::Instant::now();
     let retargeting = retarget(&built.avatar, &found, &rig).expect("solves");

@@ -7,7 +7,7 @@
 //! [`AvatarPart`] (one primitive as placed by one node) owns the
 //! displacements of those targets on its own vertices.
 
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 
 /// One triangle primitive of the avatar, placed in world space.
 #[derive(Clone, Debug, PartialEq)]
@@ -131,6 +131,31 @@ impl Avatar {
         out
     }
 
+    /// The displacement of every avatar vertex (as [`Avatar::positions`])
+    /// under each target that moves some vertex, in double precision, in
+    /// [`Avatar::target_ids`] order; a target that moves nothing is left
+    /// out (every piece of the avatar is still, and so rigid, under it).
+    pub fn moving_target_displacements(&self) -> Vec<Vec<DVec3>> {
+        self.target_ids()
+            .into_iter()
+            .filter(|&(m, t)| {
+                self.parts.iter().any(|part| {
+                    part.mesh == m
+                        && part
+                            .targets
+                            .get(t)
+                            .is_some_and(|d| d.iter().any(|x| *x != Vec3::ZERO))
+                })
+            })
+            .map(|(m, t)| {
+                self.target_displacement(m, t)
+                    .iter()
+                    .map(|d| d.as_dvec3())
+                    .collect()
+            })
+            .collect()
+    }
+
     /// The summed displacement of every avatar vertex under the targets
     /// `targets` (`(mesh, target)` pairs): one blendshape spread over
     /// several meshes, or a shape split into halves.
@@ -153,5 +178,51 @@ impl Avatar {
             .filter(|&(m, t)| self.meshes[m].target_names[t] == name)
             .collect();
         self.summed_displacement(&targets)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn only_targets_that_move_something_are_given_in_double_precision() {
+        let part = |mesh: usize, x: f32, targets: Vec<Vec<Vec3>>| AvatarPart {
+            name: format!("part {mesh}"),
+            mesh,
+            primitive: 0,
+            positions: vec![Vec3::X * x, Vec3::Y, Vec3::Z],
+            triangles: vec![[0, 1, 2]],
+            targets,
+        };
+        let still = vec![Vec3::ZERO; 3];
+        let lift = vec![Vec3::ZERO, Vec3::ZERO, Vec3::Y * 0.5];
+        let avatar = Avatar {
+            meshes: vec![
+                AvatarMesh {
+                    name: None,
+                    target_names: vec!["a".into(), "b".into()],
+                },
+                AvatarMesh {
+                    name: None,
+                    target_names: vec!["a".into()],
+                },
+            ],
+            // Mesh 0's "a" moves nothing, its "b" lifts a vertex; mesh
+            // 1's "a" lifts one too.
+            parts: vec![
+                part(0, 1.0, vec![still.clone(), lift.clone()]),
+                part(1, 2.0, vec![lift]),
+            ],
+        };
+        let moving = avatar.moving_target_displacements();
+        assert_eq!(moving.len(), 2);
+        let lifted = |v: usize| {
+            let mut d = vec![DVec3::ZERO; 6];
+            d[v] = DVec3::Y * 0.5;
+            d
+        };
+        assert_eq!(moving[0], lifted(2), "mesh 0's b");
+        assert_eq!(moving[1], lifted(5), "mesh 1's a");
     }
 }

@@ -35,8 +35,10 @@ pub struct ClosestPoint {
 /// A triangle mesh binned for closest-point queries.
 #[derive(Clone, Debug)]
 pub struct TriangleGrid {
-    positions: Vec<DVec3>,
     triangles: Vec<[u32; 3]>,
+    /// Each triangle's corners (only the triangles' own vertices are
+    /// kept, however many `positions` the grid was built over).
+    corners: Vec<[DVec3; 3]>,
     /// Each triangle's bounding sphere: its centroid and the largest
     /// distance of a corner from it.
     spheres: Vec<(DVec3, f64)>,
@@ -79,10 +81,13 @@ impl TriangleGrid {
         let dims =
             [extent.x, extent.y, extent.z].map(|e| ((e / cell).floor() as usize + 1).min(256));
         let cells = dims[0] * dims[1] * dims[2];
-        let spheres = triangles
+        let corners: Vec<[DVec3; 3]> = triangles
             .iter()
-            .map(|t| {
-                let corners = t.map(|i| positions[i as usize]);
+            .map(|t| t.map(|i| positions[i as usize]))
+            .collect();
+        let spheres = corners
+            .iter()
+            .map(|corners| {
                 let centre = (corners[0] + corners[1] + corners[2]) / 3.0;
                 let radius = corners
                     .iter()
@@ -92,8 +97,8 @@ impl TriangleGrid {
             })
             .collect();
         let mut grid = TriangleGrid {
-            positions: positions.to_vec(),
             triangles,
+            corners,
             spheres,
             origin: lo,
             cell,
@@ -103,7 +108,7 @@ impl TriangleGrid {
         };
         // Two passes: count, then fill (a CSR layout, no per-cell vectors).
         let ranges: Vec<([usize; 3], [usize; 3])> =
-            grid.triangles.iter().map(|t| grid.cell_range(t)).collect();
+            grid.corners.iter().map(|c| grid.cell_range(c)).collect();
         let mut counts = vec![0usize; cells + 1];
         for (a, b) in &ranges {
             for z in a[2]..=b[2] {
@@ -143,10 +148,9 @@ impl TriangleGrid {
     /// The unit normal of triangle `t` (of [`TriangleGrid::triangles`]),
     /// zero for a degenerate or unknown triangle.
     pub fn triangle_normal(&self, t: usize) -> DVec3 {
-        let Some(tri) = self.triangles.get(t) else {
+        let Some(&[a, b, c]) = self.corners.get(t) else {
             return DVec3::ZERO;
         };
-        let [a, b, c] = tri.map(|i| self.positions[i as usize]);
         (b - a).cross(c - a).normalize_or_zero()
     }
 
@@ -187,7 +191,8 @@ impl TriangleGrid {
         max_distance: f64,
         accept: impl Fn(usize) -> bool,
     ) -> Option<ClosestPoint> {
-        if self.triangles.is_empty() {
+        // Every triangle lies within the grid's box.
+        if self.triangles.is_empty() || self.outside_distance(p) > max_distance {
             return None;
         }
         let home = self.cell_of(p);
@@ -239,7 +244,7 @@ impl TriangleGrid {
     }
 
     fn closest_on_triangle(&self, t: usize, p: DVec3) -> ClosestPoint {
-        let [a, b, c] = self.triangles[t].map(|i| self.positions[i as usize]);
+        let [a, b, c] = self.corners[t];
         let (point, barycentric) = closest_point_on_triangle(p, a, b, c);
         ClosestPoint {
             triangle: t,
@@ -275,8 +280,7 @@ impl TriangleGrid {
         out
     }
 
-    fn cell_range(&self, t: &[u32; 3]) -> ([usize; 3], [usize; 3]) {
-        let ps = t.map(|i| self.positions[i as usize]);
+    fn cell_range(&self, ps: &[DVec3; 3]) -> ([usize; 3], [usize; 3]) {
         let lo = ps[0].min(ps[1]).min(ps[2]);
         let hi = ps[0].max(ps[1]).max(ps[2]);
         (self.cell_of(lo), self.cell_of(hi))
@@ -420,6 +424,33 @@ mod tests {
             grid.closest_within(DVec3::new(0.1, 0.1, 1.0), 0.5)
                 .is_none()
         );
+    }
+
+    #[test]
+    fn a_grid_over_a_few_of_many_vertices_answers_in_the_given_indices() {
+        let (positions, triangles) = surface();
+        // The same surface after 100 vertices no triangle uses.
+        let mut padded = vec![DVec3::splat(50.0); 100];
+        padded.extend(&positions);
+        let shifted: Vec<[u32; 3]> = triangles.iter().map(|t| t.map(|i| i + 100)).collect();
+        let grid = TriangleGrid::new(&positions, &triangles);
+        let padded_grid = TriangleGrid::new(&padded, &shifted);
+        assert_eq!(padded_grid.triangles(), &shifted[..]);
+        for p in [DVec3::new(0.1, 0.2, 0.05), DVec3::new(-2.0, 0.1, 0.0)] {
+            let (a, b) = (grid.closest(p), padded_grid.closest(p));
+            let (a, b) = (a.expect("a mesh"), b.expect("a mesh"));
+            assert_eq!((a.triangle, a.point), (b.triangle, b.point));
+            assert_eq!(
+                grid.triangle_normal(a.triangle),
+                padded_grid.triangle_normal(b.triangle)
+            );
+        }
+        // The surface spans x in [0, 0.2]: a point 0.3 beyond its box is
+        // found within 0.31, and not within 0.29.
+        let beyond = DVec3::new(0.5, 0.1, 0.0);
+        let found = grid.closest_within(beyond, 0.31).expect("within reach");
+        assert!((found.distance - 0.3).abs() < 0.01, "{}", found.distance);
+        assert!(grid.closest_within(beyond, 0.29).is_none());
     }
 
     #[test]

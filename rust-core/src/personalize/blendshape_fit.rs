@@ -406,9 +406,50 @@ pub(crate) fn in_parallel_ranges<T: Send>(
     })
 }
 
+/// Splits `items` into one contiguous run per core (at most 8) and runs
+/// `work` on each in its own thread, with the index of the run's first
+/// item; returns the results in the order of the runs, `None` for a run
+/// whose thread panicked.
+pub(crate) fn in_parallel_chunks<T: Send, R: Send>(
+    items: &mut [T],
+    work: impl Fn(usize, &mut [T]) -> R + Sync,
+) -> Vec<Option<R>> {
+    let count = items.len();
+    let threads = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .clamp(1, 8)
+        .min(count.max(1));
+    let chunk = count.div_ceil(threads).max(1);
+    let work = &work;
+    std::thread::scope(|scope| {
+        let handles: Vec<_> = items
+            .chunks_mut(chunk)
+            .enumerate()
+            .map(|(t, run)| scope.spawn(move || work(t * chunk, run)))
+            .collect();
+        handles.into_iter().map(|h| h.join().ok()).collect()
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn parallel_chunks_see_every_item_once_with_its_index() {
+        for count in [0, 1, 5, 52] {
+            let mut items = vec![0usize; count];
+            let sums = in_parallel_chunks(&mut items, |first, run| {
+                for (k, x) in run.iter_mut().enumerate() {
+                    *x += first + k + 1;
+                }
+                run.len()
+            });
+            let seen: usize = sums.into_iter().map(|s| s.expect("no panic")).sum();
+            assert_eq!(seen, count);
+            assert_eq!(items, (1..=count).collect::<Vec<_>>());
+        }
+    }
 
     fn shapes(n: usize, seed: f64) -> Vec<Vec<DVec3>> {
         (0..BLENDSHAPE_COUNT)

@@ -19,6 +19,7 @@
 //! | ears | [`ears`] | pressed ellipsoid shells, roots sunk into the head |
 //! | eyeballs, sockets | [`eyes`] | 24 mm globe with an 11.5 mm cornea bulging 2.5 mm, placed as far forward as the lids allow; an iris and a pupil painted on the cornea (their own parts); a 29 mm bowl behind each |
 //! | teeth, gums, tongue, mouth lining | [`mouth`] | 14 rounded-box crowns per jaw on a parabolic arch, tube gums, flattened ellipsoid tongue, an ellipsoid lining open towards the lips |
+//! | rounded mouth opening | [`mouth_opening`] | jawOpen's weight taken towards the corners' share (0.34, measured on ICT-FaceKit) along an ellipse, mouthClose taking it back |
 //! | blendshapes | [`shapes`] | template interpolated on the face, continued past the outline; jaw, gaze and tongue motions |
 //!
 //! Coordinates are ARKit's face-anchor space in metres: +x the person's
@@ -33,6 +34,7 @@ pub mod lips;
 #[cfg(test)]
 mod look_tests;
 pub mod mouth;
+pub mod mouth_opening;
 pub mod nostrils;
 pub mod shading;
 pub mod shapes;
@@ -41,10 +43,11 @@ pub mod skin;
 mod tests;
 
 use crate::face_mask::EYE_CENTRE;
+use crate::template::generic_template;
 use face::{FaceRegion, MaskPoint};
 use glam::{DMat3, DVec3, Vec3};
-use likeness::Blendshape;
 use likeness::avatar::model::{Avatar, AvatarMesh, AvatarPart};
+use likeness::{Blendshape, Blendshapes};
 use std::sync::OnceLock;
 
 /// How far the eyeballs stay from every lid and socket vertex, at rest, at
@@ -114,6 +117,25 @@ pub fn default_avatar() -> &'static DefaultAvatar {
 }
 
 impl DefaultAvatar {
+    /// The avatar's own rig as the mask sees it: the generic template,
+    /// its jawOpen rounded and its mouthClose taking that back at the
+    /// mask's vertices ([`mouth_opening::on_mask`]), the rounding the
+    /// avatar's face interpolates. Implanting or retargeting this rig
+    /// gives back the avatar's own shapes.
+    pub fn own_rig_on_mask(&self) -> Blendshapes {
+        let template = generic_template()
+            .blendshapes()
+            .expect("the generic template is checked");
+        let rounding = mouth_opening::on_mask();
+        let mut deltas = template.deltas().to_vec();
+        for (v, r) in rounding.iter().enumerate() {
+            deltas[Blendshape::JawOpen.index()][v] += *r;
+            deltas[Blendshape::MouthClose.index()][v] -= *r;
+        }
+        Blendshapes::new(template.neutral().to_vec(), deltas)
+            .expect("the rounded template is checked")
+    }
+
     /// Every part of the two eyes (eyeballs, irises, pupils), increasing.
     pub fn eye_parts(&self) -> Vec<usize> {
         let mut parts: Vec<usize> = self.eyes.to_vec();

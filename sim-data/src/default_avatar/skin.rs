@@ -7,7 +7,7 @@
 
 use super::face::{FaceRegion, face_region_with};
 use super::head::head_region_with;
-use super::shapes;
+use super::{mouth_opening, shapes};
 use crate::face_mask::face_mask;
 use crate::template::{generic_model, generic_template};
 use glam::DVec3;
@@ -56,7 +56,13 @@ pub fn skin(face_spacing: f64, head_spacing: f64) -> Skin {
     let mut triangles = face.triangles.clone();
     triangles.extend(head.triangles.iter().map(|t| t.map(remap)));
     let template = generic_template();
-    let face_targets = shapes::face_targets(&face.on_mask, &template, tris);
+    let mut face_targets = shapes::face_targets(&face.on_mask, &template, tris);
+    mouth_opening::round(
+        &mut face_targets,
+        &face.on_mask,
+        &mouth_opening::on_mask(),
+        tris,
+    );
     let jaw = generic_model().jaw_weights;
     let rim_jaw: Vec<f64> = face
         .rim

@@ -486,3 +486,67 @@ fn default_avatar_glb_reads_back_with_all_52_targets_and_its_materials() {
         "the same bytes every time"
     );
 }
+
+#[test]
+fn default_avatar_jaw_open_opens_a_rounded_mouth_that_mouth_close_closes_as_before() {
+    let a = avatar();
+    let skin = &a.avatar.parts[a.skin];
+    let nf = a.true_correspondence.len() as u32;
+    let (open, close) = (
+        part_target(a, a.skin, "jawOpen"),
+        part_target(a, a.skin, "mouthClose"),
+    );
+    // The mouth: of the face's three openings, the lowest.
+    let mouth = boundary_loops(&skin.triangles)
+        .into_iter()
+        .filter(|l| l.iter().all(|&v| v < nf))
+        .min_by(|x, y| {
+            let y_of = |l: &[u32]| skin.positions[l[0] as usize].y;
+            y_of(x).total_cmp(&y_of(y))
+        })
+        .expect("a mouth opening");
+    let p = |v: u32| skin.positions[v as usize];
+    let half_width = mouth.iter().map(|&v| p(v).x.abs()).fold(0.0, f32::max);
+    let lip_line = crate::face_mask::MOUTH_CENTRE[1] as f32;
+    // The opening's height under jawOpen at `s` of the half-width: the
+    // lower lip's drop less the upper lip's, at the nearest loop vertices.
+    let height = |s: f32| {
+        let drop = |lower: bool| {
+            mouth
+                .iter()
+                .filter(|&&v| (p(v).y < lip_line) == lower)
+                .min_by(|&&u, &&v| {
+                    let d = |w: u32| (p(w).x - s * half_width).abs();
+                    d(u).total_cmp(&d(v))
+                })
+                .map(|&v| -open[v as usize].y)
+                .expect("both lips")
+        };
+        drop(true) - drop(false)
+    };
+    let centre = height(0.0);
+    assert!(centre > 0.015, "jawOpen opens the mouth {centre} m");
+    // An ellipse through corners moving a third of the way (0.91, 0.63 of
+    // the centre's drop); the template's rectangle keeps 0.96 and 0.87.
+    let (half, near_corner) = (height(0.5) / centre, height(0.9) / centre);
+    eprintln!(
+        "jawOpen's opening: {centre} m at the centre, {half} of it at half the width, {near_corner} at 0.9"
+    );
+    assert!(half > 0.8, "pinched: {half} at half the width");
+    assert!(
+        near_corner < 0.72,
+        "square: {near_corner} at 0.9 of the width"
+    );
+    // jawOpen + mouthClose is the template's, lips closed as before.
+    let template = crate::template::generic_template();
+    let mask_tris = face_mask().topology.triangles();
+    let t = shapes::face_targets(&a.true_correspondence, &template, mask_tris);
+    let (jo, mc) = (Blendshape::JawOpen.index(), Blendshape::MouthClose.index());
+    let mut changed = 0.0f64;
+    for v in 0..nf as usize {
+        let sum = (open[v] + close[v]).as_dvec3();
+        assert!(sum.distance(t[jo][v] + t[mc][v]) < 1e-6, "vertex {v}");
+        changed = changed.max(open[v].as_dvec3().distance(t[jo][v]));
+    }
+    assert!(changed > 0.004, "jawOpen is the template's: {changed}");
+}

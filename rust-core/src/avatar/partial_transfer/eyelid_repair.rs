@@ -40,29 +40,50 @@ pub struct Eyeball {
     pub centre: DVec3,
     /// Largest distance of a vertex from the centre at rest.
     pub radius: f64,
+    /// The vertices of its triangles that lie within the rest positions
+    /// it was made over, increasing.
+    pub vertices: Vec<u32>,
+    /// Those of its triangles, in order, over `vertices` (indices into
+    /// it): a grid of the eyeball alone, posed in a shape, is built over
+    /// them.
+    pub local: Vec<[u32; 3]>,
 }
 
 impl Eyeball {
     /// The eyeball made of `triangles` over `rest` (avatar positions).
     pub fn new(rest: &[DVec3], triangles: Vec<[u32; 3]>) -> Eyeball {
-        let mut vertices: Vec<u32> = triangles.iter().flatten().copied().collect();
-        vertices.sort_unstable();
-        vertices.dedup();
-        let n = vertices.len().max(1) as f64;
-        let centre = vertices
+        let mut all: Vec<u32> = triangles.iter().flatten().copied().collect();
+        all.sort_unstable();
+        all.dedup();
+        let n = all.len().max(1) as f64;
+        let centre = all
             .iter()
             .filter_map(|&v| rest.get(v as usize))
             .sum::<DVec3>()
             / n;
-        let radius = vertices
+        let radius = all
             .iter()
             .filter_map(|&v| rest.get(v as usize))
             .map(|p| (*p - centre).length())
             .fold(0.0, f64::max);
+        let within: Vec<[u32; 3]> = triangles
+            .iter()
+            .filter(|t| t.iter().all(|&v| (v as usize) < rest.len()))
+            .copied()
+            .collect();
+        let mut vertices: Vec<u32> = within.iter().flatten().copied().collect();
+        vertices.sort_unstable();
+        vertices.dedup();
+        let local = within
+            .iter()
+            .map(|t| t.map(|v| vertices.binary_search(&v).unwrap_or(0) as u32))
+            .collect();
         Eyeball {
             triangles,
             centre,
             radius,
+            vertices,
+            local,
         }
     }
 }
@@ -83,54 +104,68 @@ pub fn repair_eyelids(
     offset: f64,
     near: f64,
 ) -> usize {
-    let mut moved = 0;
-    let posed: Vec<DVec3> = rest
-        .iter()
-        .zip(displacement.iter())
-        .map(|(p, d)| *p + *d)
-        .collect();
-    let own_posed: Vec<DVec3> = rest
-        .iter()
-        .enumerate()
-        .map(|(v, p)| *p + own.get(v).copied().unwrap_or(DVec3::ZERO))
-        .collect();
+    // Every eyeball is judged on the shape as given: the changes are
+    // worked out first, then made.
+    let shape: &[DVec3] = displacement;
+    let posed = |v: usize| rest[v] + shape.get(v).copied().unwrap_or(DVec3::ZERO);
+    let own_posed = |v: usize| rest[v] + own.get(v).copied().unwrap_or(DVec3::ZERO);
+    let mut changes: Vec<(usize, DVec3)> = Vec::new();
     for eyeball in eyeballs {
-        let grid = TriangleGrid::new(&posed, &eyeball.triangles);
-        let at_rest = TriangleGrid::new(rest, &eyeball.triangles);
-        let under_own = TriangleGrid::new(&own_posed, &eyeball.triangles);
-        for &v in skin {
-            let v = v as usize;
-            let (Some(p0), Some(p)) = (rest.get(v), posed.get(v)) else {
-                continue;
-            };
-            // Outside the sphere round the eyeball (which turns about its
-            // centre) nothing can be inside it.
-            if (*p0 - eyeball.centre).length() > eyeball.radius + near
-                || (*p - eyeball.centre).length() > eyeball.radius
-            {
-                continue;
-            }
+        let (vertices, local) = (&eyeball.vertices, &eyeball.local);
+        // Where the shape leaves the eyeball and a vertex as the avatar's
+        // own shape (or its rest) has them, the vertex is exactly as deep
+        // as it may be: nothing to look at.
+        let as_own = |v: usize| posed(v) == own_posed(v);
+        let eyeball_as_own = vertices.iter().all(|&v| as_own(v as usize));
+        // Outside the sphere round the eyeball (which turns about its
+        // centre) nothing can be inside it.
+        let looked_at: Vec<usize> = skin
+            .iter()
+            .map(|&v| v as usize)
+            .filter(|&v| {
+                v < rest.len()
+                    && (rest[v] - eyeball.centre).length() <= eyeball.radius + near
+                    && (posed(v) - eyeball.centre).length() <= eyeball.radius
+                    && !(eyeball_as_own && as_own(v))
+            })
+            .collect();
+        if looked_at.is_empty() {
+            continue;
+        }
+        // The eyeball's own vertices, in the shape and as the avatar's own
+        // shape (or its rest) has them.
+        let on = |place: &dyn Fn(usize) -> DVec3| -> Vec<DVec3> {
+            vertices.iter().map(|&v| place(v as usize)).collect()
+        };
+        let grid = TriangleGrid::new(&on(&posed), local);
+        let allowed_by = match own.is_empty() {
+            true => TriangleGrid::new(&on(&|v| rest[v]), local),
+            false => TriangleGrid::new(&on(&own_posed), local),
+        };
+        for v in looked_at {
+            let (p0, p) = (rest[v], posed(v));
             // How deep the avatar's own shape of this name keeps the
             // vertex (at rest where it has none): a lid margin tucked under
             // a rig's cornea shell, or left behind a turned eyeball, is the
             // rig's choice, not a lid passing through.
             let allowed = match own.is_empty() {
-                true => depth(&at_rest, *p0),
-                false => depth(&under_own, own_posed[v]),
+                true => depth(&allowed_by, p0),
+                false => depth(&allowed_by, own_posed(v)),
             };
-            if let Some((point, normal)) = inside(&grid, *p) {
-                let deeper = (point - *p).dot(normal);
+            if let Some((point, normal)) = inside(&grid, p) {
+                let deeper = (point - p).dot(normal);
                 if allowed == 0.0 {
-                    displacement[v] = point + normal * offset - *p0;
-                    moved += 1;
+                    changes.push((v, point + normal * offset - p0));
                 } else if deeper > allowed + offset {
-                    displacement[v] = point - normal * allowed - *p0;
-                    moved += 1;
+                    changes.push((v, point - normal * allowed - p0));
                 }
             }
         }
     }
-    moved
+    for &(v, d) in &changes {
+        displacement[v] = d;
+    }
+    changes.len()
 }
 
 /// How far `p` lies inside the closed surface `grid` (zero outside):
@@ -222,5 +257,25 @@ mod tests {
         let moved = repair(&rest_in, &own, &mut d);
         assert_eq!(moved, 1);
         assert!((rest_in[8] + d[8] - DVec3::new(0.1, 0.1, 0.51)).length() < 1e-12);
+        // A shape that is the avatar's own there, eyeball and lid alike,
+        // keeps the lid as deep as its own does.
+        let mut own = vec![DVec3::ZERO; rest.len()];
+        own[8] = DVec3::new(0.0, 0.0, -0.4);
+        let mut d = own.clone();
+        assert_eq!(repair(&rest, &own, &mut d), 0);
+        assert_eq!(d, own);
+    }
+
+    #[test]
+    fn an_eyeballs_own_triangles_are_numbered_over_its_own_vertices() {
+        let (rest, triangles) = cube();
+        let shifted: Vec<[u32; 3]> = triangles.iter().map(|t| t.map(|v| v + 10)).collect();
+        let mut padded = vec![DVec3::ZERO; 10];
+        padded.extend(&rest);
+        let eyeball = Eyeball::new(&padded, shifted.clone());
+        assert_eq!(eyeball.vertices, (10..18).collect::<Vec<u32>>());
+        assert_eq!(eyeball.local, triangles);
+        // A triangle past the positions given is left out.
+        assert_eq!(Eyeball::new(&padded[..17], shifted).local.len(), 6);
     }
 }

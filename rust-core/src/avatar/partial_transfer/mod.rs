@@ -51,7 +51,7 @@ use super::registration::FaceRegistration;
 use super::registration::find_face::arkit_displacement;
 use super::retargeting::{NEGLIGIBLE, RetargetError, Retargeting, mapped_shapes};
 use crate::arkit::{Blendshape, Blendshapes};
-use crate::personalize::blendshape_fit::in_parallel_ranges;
+use crate::personalize::blendshape_fit::{in_parallel_chunks, in_parallel_ranges};
 use adjacent_step::AdjacentStep;
 use closed_lids::ClosedLids;
 use eyelid_repair::{Eyeball, LID_OFFSET_MM, NEAR_MM, repair_eyelids};
@@ -312,17 +312,7 @@ pub fn implant(
     // Rigid pieces: each connected component outside the face parts that
     // every own target moves rigidly (an eyeball; each tooth, or a
     // teeth-and-gums arch, in a mesh that holds both jaws), held rigid.
-    let own: Vec<Vec<DVec3>> = avatar
-        .target_ids()
-        .into_iter()
-        .map(|(m, t)| {
-            avatar
-                .target_displacement(m, t)
-                .iter()
-                .map(|d| d.as_dvec3())
-                .collect()
-        })
-        .collect();
+    let own = avatar.moving_target_displacements();
     let pieces = rigid_parts::rigid_pieces(avatar, &positions, &own, &registration.face_parts);
     let rigid_deviation_removed: Vec<f64> = pieces
         .iter()
@@ -342,21 +332,33 @@ pub fn implant(
     let skin: Vec<u32> = (0..n as u32)
         .filter(|&v| in_face_parts[v as usize])
         .collect();
-    let lids_repaired = full
-        .iter_mut()
-        .zip(&own_shapes)
-        .map(|(d, own)| {
-            repair_eyelids(
-                &positions,
-                own.as_deref().unwrap_or_default(),
-                d,
-                &skin,
-                &eyeballs,
-                LID_OFFSET_MM * to_avatar,
-                NEAR_MM * to_avatar,
-            )
-        })
-        .sum();
+    // Shape by shape, the shapes shared out between the cores.
+    let repair = |first: usize, shapes: &mut [Vec<DVec3>]| -> usize {
+        shapes
+            .iter_mut()
+            .enumerate()
+            .map(|(k, d)| {
+                repair_eyelids(
+                    &positions,
+                    own_shapes[first + k].as_deref().unwrap_or_default(),
+                    d,
+                    &skin,
+                    &eyeballs,
+                    LID_OFFSET_MM * to_avatar,
+                    NEAR_MM * to_avatar,
+                )
+            })
+            .sum()
+    };
+    let lids_repaired: usize = match in_parallel_chunks(&mut full, repair)
+        .into_iter()
+        .collect::<Option<Vec<usize>>>()
+    {
+        Some(counts) => counts.into_iter().sum(),
+        // A thread panicked: again on this thread, where the panic
+        // reaches the caller.
+        None => repair(0, &mut full),
+    };
     // Invisible displacements written as zero, as for `A_j` (they would
     // keep a sparse target from being sparse).
     let (lo, hi) = positions.iter().fold(

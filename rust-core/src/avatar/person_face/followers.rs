@@ -217,14 +217,7 @@ pub fn follow_skin(
     let skin_triangles = avatar.triangles_of(&registration.face_parts);
     let grid = TriangleGrid::new(positions, &skin_triangles);
     let (hold, free) = (HOLD_MM * to_avatar, FREE_MM * to_avatar);
-    let own: Vec<Vec<DVec3>> = avatar
-        .target_ids()
-        .into_iter()
-        .map(|(m, t)| {
-            let d = avatar.target_displacement(m, t);
-            d.iter().map(|x| x.as_dvec3()).collect()
-        })
-        .collect();
+    let own = avatar.moving_target_displacements();
     for piece in &all_pieces {
         if piece.iter().any(|v| in_eyeball.contains(v)) || moves_rigidly(positions, &own, piece) {
             continue;

@@ -22,7 +22,11 @@
 //! ring of the avatar's mesh at a time: a vertex whose taken neighbours
 //! lie on one lip only takes its closest point among that lip's triangles
 //! ([`super::lip_sides`]), so the lips' edges move as the person's do.
-//! Beside the corners, where the lips meet, the band remains. The
+//! Beside the corners, where the lips meet, the band remains, and so it
+//! does wherever a vertex's own closest point lies on the other lip than
+//! its neighbours': there the registered mask's slit and the avatar's
+//! disagree (a face of other proportions), and taking either lip tore the
+//! lips into a saw-tooth in jawOpen. The
 //! normals keep the lining of the lips, the inside of the nostrils and
 //! of the lids out of the region: they face away from the mask's skin,
 //! and a lining vertex of the upper lip would otherwise take the lower
@@ -107,7 +111,7 @@ pub fn correspondence_map(
     let mut face = Vec::new();
     // Vertices whose closest point lies on a lip's triangle at the slit:
     // taken once their neighbours tell their lip.
-    let mut at_slit: Vec<(usize, DVec3, DVec3)> = Vec::new();
+    let mut at_slit: Vec<(usize, DVec3, DVec3, u8)> = Vec::new();
     for (v, p, normal) in candidates {
         let closest = if normal == DVec3::ZERO {
             grid.closest_within(p, tolerance)
@@ -126,8 +130,8 @@ pub fn correspondence_map(
         // triangle short of the lids' margins (module docs); at the
         // mouth's slit it takes a triangle of the vertex's own lip.
         if t.iter().any(|v| rims.contains(v)) {
-            if lips.slit_triangle(t).is_some() {
-                at_slit.push((v, p, normal));
+            if let Some(lip) = lips.slit_triangle(t) {
+                at_slit.push((v, p, normal, lip));
             }
             continue;
         }
@@ -168,7 +172,7 @@ pub fn correspondence_map(
     };
     loop {
         let mut taken = Vec::new();
-        at_slit.retain(|&(v, p, normal)| {
+        at_slit.retain(|&(v, p, normal, closest_lip)| {
             let lip = neighbours
                 .get(&(v as u32))
                 .into_iter()
@@ -177,6 +181,13 @@ pub fn correspondence_map(
                 .fold(0u8, |acc, b| acc | b);
             if lip != 1 && lip != 2 {
                 return true;
+            }
+            // A vertex whose own closest point lies on the other lip is
+            // where the registered mask's slit and the avatar's disagree
+            // (a face of other proportions): it stays in the band, for
+            // step 2, rather than take either lip's motion.
+            if lip != closest_lip {
+                return false;
             }
             if let Some(f) = on_lip(v, p, normal, lip) {
                 taken.push((f, lip));

@@ -422,30 +422,52 @@ fn uncovered_region(neutral: &[DVec3], kept: &[bool]) -> String {
 
 /// Version of the registration's rules: part of the cache key, so a cached
 /// result from older rules is never taken for a new one.
-pub const REGISTRATION_VERSION: u32 = 4;
+pub const REGISTRATION_VERSION: u32 = 6;
 
 /// The key a registration is cached under: the rules' version, the
-/// avatar's vertex count and a CRC-32 of its rest geometry and triangles
-/// and of the mask's neutral.
+/// avatar's vertex count and a CRC-32 of everything the registration
+/// reads: the avatar's rest geometry, triangles and targets (its features
+/// are where its blinks and jaw move most) and the mask's neutral and
+/// shapes. An avatar whose shapes change (a new export of the same head)
+/// is found again.
 pub fn cache_key(avatar: &Avatar, rig: &Blendshapes) -> String {
+    // The bytes are gathered part by part and hashed in bulk (a call per
+    // number is ten times slower).
     let mut hasher = crc32fast::Hasher::new();
+    let mut bytes: Vec<u8> = Vec::new();
+    let floats = |bytes: &mut Vec<u8>, p: glam::Vec3| {
+        for x in p.to_array() {
+            bytes.extend_from_slice(&x.to_le_bytes());
+        }
+    };
     for part in &avatar.parts {
+        bytes.clear();
+        bytes.extend_from_slice(&(part.positions.len() as u64).to_le_bytes());
         for p in &part.positions {
-            hasher.update(&p.x.to_le_bytes());
-            hasher.update(&p.y.to_le_bytes());
-            hasher.update(&p.z.to_le_bytes());
+            floats(&mut bytes, *p);
         }
-        for t in &part.triangles {
-            for i in t {
-                hasher.update(&i.to_le_bytes());
-            }
+        for i in part.triangles.iter().flatten() {
+            bytes.extend_from_slice(&i.to_le_bytes());
+        }
+        bytes.extend_from_slice(&(part.targets.len() as u64).to_le_bytes());
+        for d in part.targets.iter().flatten() {
+            floats(&mut bytes, *d);
+        }
+        hasher.update(&bytes);
+    }
+    for mesh in &avatar.meshes {
+        for name in &mesh.target_names {
+            hasher.update(name.as_bytes());
+            hasher.update(&[0]);
         }
     }
-    for p in rig.neutral() {
-        hasher.update(&p.x.to_le_bytes());
-        hasher.update(&p.y.to_le_bytes());
-        hasher.update(&p.z.to_le_bytes());
+    bytes.clear();
+    for p in rig.neutral().iter().chain(rig.deltas().iter().flatten()) {
+        for x in p.to_array() {
+            bytes.extend_from_slice(&x.to_le_bytes());
+        }
     }
+    hasher.update(&bytes);
     format!(
         "v{REGISTRATION_VERSION}-{}-{:08x}",
         avatar.vertex_count(),

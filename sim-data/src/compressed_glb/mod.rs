@@ -57,9 +57,12 @@ pub fn meshopt_compressed(glb: &[u8]) -> Result<Vec<u8>, String> {
         let primitives = doc["meshes"][m]["primitives"]
             .as_array()
             .map_or(0, Vec::len);
+        // Vertex data shared by primitives of the mesh stays shared.
+        let mut this_mesh = HashMap::new();
         for p in 0..primitives {
             let source = (orig, buffers);
-            rewrite_primitive(&mut doc, source, (m, p), d, &mut out, &mut rewritten)?;
+            let written = (&mut rewritten, &mut this_mesh);
+            rewrite_primitive(&mut doc, source, (m, p), d, &mut out, written)?;
         }
         for n in placed_by {
             quantize::fold_into(&mut doc["nodes"][n], d);
@@ -150,14 +153,16 @@ fn set_accessor(
 }
 
 /// Rewrites primitive `p` of mesh `m` in `doc`, reading its data from the
-/// untouched input `(orig, buffers)`.
+/// untouched input `(orig, buffers)`. A vertex attribute or target accessor
+/// an earlier primitive of the mesh shares is not encoded again: it takes
+/// the accessor written for that one (`this_mesh`: old index to new).
 fn rewrite_primitive(
     doc: &mut Value,
     (orig, buffers): (&Value, &[Vec<u8>]),
     (m, p): (usize, usize),
     d: Dequantization,
     out: &mut Streams,
-    rewritten: &mut HashSet<usize>,
+    (rewritten, this_mesh): (&mut HashSet<usize>, &mut HashMap<usize, usize>),
 ) -> Result<(), String> {
     let prim = orig["meshes"][m]["primitives"][p].clone();
     let mut prim_new = prim.clone();
@@ -165,6 +170,11 @@ fn rewrite_primitive(
     let attributes = prim["attributes"].as_object().cloned().unwrap_or_default();
     for (semantic, a) in &attributes {
         let a = a.as_u64().ok_or("attribute not an index")? as usize;
+        count = count.max(orig["accessors"][a]["count"].as_u64().unwrap_or(0) as usize);
+        if let Some(&index) = this_mesh.get(&a) {
+            prim_new["attributes"][semantic] = json!(index);
+            continue;
+        }
         let old = orig["accessors"][a].clone();
         let new = match semantic.as_str() {
             "POSITION" => {
@@ -203,6 +213,7 @@ fn rewrite_primitive(
             }
         };
         let index = set_accessor(doc, rewritten, a, new);
+        this_mesh.insert(a, index);
         prim_new["attributes"][semantic] = json!(index);
     }
     if let Some(a) = prim["indices"].as_u64() {
@@ -215,6 +226,10 @@ fn rewrite_primitive(
     for (t, target) in prim["targets"].as_array().into_iter().flatten().enumerate() {
         for (semantic, a) in target.as_object().into_iter().flatten() {
             let a = a.as_u64().ok_or("target attribute not an index")? as usize;
+            if let Some(&index) = this_mesh.get(&a) {
+                prim_new["targets"][t][semantic] = json!(index);
+                continue;
+            }
             let v = accessors::vec3(orig, buffers, a)?;
             let new = match semantic.as_str() {
                 "POSITION" => {
@@ -232,6 +247,7 @@ fn rewrite_primitive(
                 other => return Err(format!("target attribute {other} not handled")),
             };
             let index = set_accessor(doc, rewritten, a, new);
+            this_mesh.insert(a, index);
             prim_new["targets"][t][semantic] = json!(index);
         }
     }

@@ -7,12 +7,18 @@
 //!    [`FACE_SPACING`]; every such point lies on one mask edge.
 //! 2. A hexagonal grid of spacing [`FACE_SPACING`] fills the domain, keeping
 //!    0.6 spacings clear of the boundary.
-//! 3. A constrained Delaunay triangulation (`spade`) of the points, with the
-//!    loops as constraints, keeps the triangles inside the domain.
-//! 4. Each point `p` is located in a mask triangle `t = (i, j, k)` with
+//! 3. The vermilion border's two curves ([`super::lips::border_lines`]) are
+//!    sampled at the same spacing, where they lie in the domain, and grid
+//!    points within 0.6 spacings of them dropped.
+//! 4. A constrained Delaunay triangulation (`spade`) of the points, with the
+//!    loops and the border lines as constraints, keeps the triangles inside
+//!    the domain and runs edges along the border, so the lips' material
+//!    ends on it ([`FaceRegion::on_the_lips`]).
+//! 5. Each point `p` is located in a mask triangle `t = (i, j, k)` with
 //!    barycentric coordinates `b`, and placed at `x = b₀ x_i + b₁ x_j + b₂ x_k`
 //!    (the mask's neutral positions, in `f64`).
 
+use super::lips::{border_lines, on_the_lips};
 use crate::face_mask::{FaceMask, face_mask};
 use glam::DVec3;
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
@@ -48,6 +54,9 @@ pub struct FaceRegion {
     /// Whether each outline vertex is one of the mask's (else it lies on a
     /// mask edge between the neighbouring such vertices).
     pub rim_anchor: Vec<bool>,
+    /// Whether each triangle is on the red of the lips (its centroid within
+    /// the vermilion border, [`super::lips::on_the_lips`]).
+    pub on_the_lips: Vec<bool>,
 }
 
 /// The mask's boundary loops as vertex lists: left eye, right eye, mouth,
@@ -221,9 +230,36 @@ pub fn face_region_with(spacing: f64) -> FaceRegion {
     let polygons: Vec<Vec<[f64; 2]>> = loop_ranges.iter().map(|r| uv[r.clone()].to_vec()).collect();
     let in_domain =
         |p: [f64; 2]| inside(&polygons[3], p) && !polygons[..3].iter().any(|h| inside(h, p));
-    let boundary = uv.clone();
     let locator = Locator::new(mask);
     let h = spacing;
+    // The vermilion border, in runs of points clear of the loops.
+    let clear = |p: [f64; 2], of: &[[f64; 2]]| of.iter().all(|b| dist2(*b, p) >= (0.6 * h).powi(2));
+    let loops_only = uv.clone();
+    let mut lines = Vec::new();
+    for line in border_lines(h) {
+        let mut run = uv.len();
+        for p in line {
+            let located = (in_domain(p) && clear(p, &loops_only))
+                .then(|| locator.locate(mask, p))
+                .flatten();
+            match located {
+                Some(m) => {
+                    uv.push(p);
+                    on_mask.push(m);
+                }
+                None => {
+                    if uv.len() - run >= 2 {
+                        lines.push(run..uv.len());
+                    }
+                    run = uv.len();
+                }
+            }
+        }
+        if uv.len() - run >= 2 {
+            lines.push(run..uv.len());
+        }
+    }
+    let boundary = uv.clone();
     let rows = (0.2 / (h * 0.866)) as i64;
     for r in 0..rows {
         let v = -0.11 + r as f64 * h * 0.866;
@@ -239,7 +275,10 @@ pub fn face_region_with(spacing: f64) -> FaceRegion {
             }
         }
     }
-    let triangles = triangulate(&uv, &loop_ranges);
+    let triangles = triangulate(&uv, &loop_ranges, &lines);
+    let centroid =
+        |t: &[u32; 3]| [0, 1].map(|d| t.iter().map(|&i| uv[i as usize][d]).sum::<f64>() / 3.0);
+    let on_the_lips = triangles.iter().map(|t| on_the_lips(centroid(t))).collect();
     let positions = on_mask.iter().map(|m| mask_position(mask, m)).collect();
     let rim = loop_ranges[3].clone().map(|i| i as u32).collect();
     let rim_anchor = anchors[loop_ranges[3].clone()].to_vec();
@@ -250,6 +289,7 @@ pub fn face_region_with(spacing: f64) -> FaceRegion {
         triangles,
         rim,
         rim_anchor,
+        on_the_lips,
     }
 }
 
@@ -258,12 +298,17 @@ fn dist2(a: [f64; 2], b: [f64; 2]) -> f64 {
 }
 
 /// Constrained Delaunay triangulation of `points` with each range of
-/// `loops` a closed constraint loop; keeps the triangles inside an odd
-/// number of loops (a breadth-first walk from the convex hull counting the
-/// constraint edges crossed), counter-clockwise. The walk, not a test of
-/// each triangle's centroid, decides, so slivers between nearly collinear
-/// loop points fall on the right side.
-pub fn triangulate(points: &[[f64; 2]], loops: &[std::ops::Range<usize>]) -> Vec<[u32; 3]> {
+/// `loops` a closed constraint loop and each range of `lines` an open
+/// polyline of constraint edges; keeps the triangles inside an odd number
+/// of loops (a breadth-first walk from the convex hull counting the loop
+/// edges crossed, not the lines'), counter-clockwise. The walk, not a test
+/// of each triangle's centroid, decides, so slivers between nearly
+/// collinear loop points fall on the right side.
+pub fn triangulate(
+    points: &[[f64; 2]],
+    loops: &[std::ops::Range<usize>],
+    lines: &[std::ops::Range<usize>],
+) -> Vec<[u32; 3]> {
     let mut cdt = ConstrainedDelaunayTriangulation::<Point2<f64>>::new();
     let mut handle_to_index = Vec::new();
     let mut handles = Vec::with_capacity(points.len());
@@ -288,11 +333,26 @@ pub fn triangulate(points: &[[f64; 2]], loops: &[std::ops::Range<usize>]) -> Vec
             }
         }
     }
+    let mut on_lines = std::collections::HashSet::new();
+    for r in lines {
+        for k in r.start..r.end - 1 {
+            if let (Some(a), Some(b)) = (handles[k], handles[k + 1]) {
+                if a != b && cdt.can_add_constraint(a, b) {
+                    cdt.add_constraint(a, b);
+                    on_lines.insert((a.index().min(b.index()), a.index().max(b.index())));
+                }
+            }
+        }
+    }
+    let crosses_loop = |e: spade::handles::DirectedEdgeHandle<'_, _, _, _, _>| {
+        let [a, b] = e.vertices().map(|v| v.fix().index());
+        cdt.is_constraint_edge(e.as_undirected().fix()) && !on_lines.contains(&(a.min(b), a.max(b)))
+    };
     let mut depth = vec![usize::MAX; cdt.num_all_faces()];
     let mut queue = std::collections::VecDeque::new();
     for e in cdt.convex_hull() {
         if let Some(f) = e.rev().face().as_inner() {
-            let d = usize::from(cdt.is_constraint_edge(e.as_undirected().fix()));
+            let d = usize::from(crosses_loop(e));
             if d < depth[f.fix().index()] {
                 depth[f.fix().index()] = d;
                 queue.push_back(f.fix());
@@ -306,7 +366,7 @@ pub fn triangulate(points: &[[f64; 2]], loops: &[std::ops::Range<usize>]) -> Vec
             let Some(g) = e.rev().face().as_inner() else {
                 continue;
             };
-            let next = d + usize::from(cdt.is_constraint_edge(e.as_undirected().fix()));
+            let next = d + usize::from(crosses_loop(e));
             if next < depth[g.fix().index()] {
                 depth[g.fix().index()] = next;
                 queue.push_back(g.fix());

@@ -310,7 +310,7 @@ pub fn head_region_with(rim_points: &[DVec3], anchor: &[bool], spacing: f64) -> 
         }
     }
     let loops = [0..rim_plane.len(), bottom[0] as usize..plane.len()];
-    let mut triangles = triangulate(&plane, &loops);
+    let mut triangles = triangulate(&plane, &loops, &[]);
     let all: Vec<DVec3> = rim.points.iter().chain(&positions).copied().collect();
     let outward: f64 = triangles
         .iter()

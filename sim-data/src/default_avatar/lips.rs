@@ -1,12 +1,16 @@
 //! The red of the lips on the default avatar's face: where it lies in the
 //! mask's parameter plane (`uv`, m, face seen from the front, +u the
-//! person's left, +v up), and each skin vertex's share of its colour,
-//! written as a vertex tint over the skin's material.
+//! person's left, +v up). The lips wear a material of their own: the face
+//! is triangulated with the vermilion border as a line of edges
+//! ([`border_lines`], constraints of [`super::face::triangulate`]), and the
+//! triangles inside it ([`on_the_lips`]) are written as a primitive of
+//! their own sharing the skin's vertices.
 //!
 //! | what | how | constants |
 //! |---|---|---|
 //! | vermilion border | `h (1 − s²)^½` above and below the mouth line, a Cupid's bow on the upper lip ([`vermilion_border`]) | [`VERMILION_HEIGHT`] |
-//! | lips' colour | the share of the lips' colour at a point ([`lip_share`]), blending across the border | [`LIP_BLEND`] |
+//! | the border as edges | the two border curves sampled at the face's spacing ([`border_lines`]) | |
+//! | which triangles are the lips' | a triangle's centroid inside the border ([`on_the_lips`]) | |
 
 use crate::face_mask::{MOUTH_CENTRE, MOUTH_HALF_WIDTH};
 
@@ -33,21 +37,38 @@ pub fn vermilion_border(u: f64, lip: usize) -> f64 {
     base + 0.001 * gauss((u.abs() - 0.005) / 0.003) - 0.0008 * gauss(u / 0.002)
 }
 
-/// How far the colour of the lips blends into the skin's across their
-/// border, each way (m): the border is sharp on a face, but a blend
-/// narrower than the face's 1.7 mm grid shows its triangles as steps
-/// along the border, so it spans one grid step each way.
-pub const LIP_BLEND: f64 = 0.0017;
-
-/// Share of the lips' colour at `uv`: 1 on the red of the lips, 0 on the
-/// skin, blending across the border over ±[`LIP_BLEND`].
-pub fn lip_share(uv: [f64; 2]) -> f64 {
+/// Whether `uv` is on the red of the lips: within the vermilion border.
+pub fn on_the_lips(uv: [f64; 2]) -> bool {
     let (u, v) = (uv[0] - MOUTH_CENTRE[0], uv[1] - MOUTH_CENTRE[1]);
-    let border = vermilion_border(u, usize::from(v < 0.0));
-    if border <= 0.0 {
-        return 0.0; // past the mouth's corners
-    }
-    let inside = border - v.abs();
-    let t = ((inside + LIP_BLEND) / (2.0 * LIP_BLEND)).clamp(0.0, 1.0);
-    t * t * (3.0 - 2.0 * t)
+    v.abs() < vermilion_border(u, usize::from(v < 0.0))
+}
+
+/// The upper and the lower vermilion border as polylines in the parameter
+/// plane, corner to corner, points about `spacing` apart along each
+/// (uniform in the arc of the curve, found by walking it in steps of a
+/// hundredth of `spacing`).
+pub fn border_lines(spacing: f64) -> [Vec<[f64; 2]>; 2] {
+    [0, 1].map(|lip| {
+        let sign = if lip == 0 { 1.0 } else { -1.0 };
+        let at = |u: f64| {
+            [
+                MOUTH_CENTRE[0] + u,
+                MOUTH_CENTRE[1] + sign * vermilion_border(u, lip),
+            ]
+        };
+        let step = spacing / 100.0;
+        let mut line = vec![at(-MOUTH_HALF_WIDTH)];
+        let (mut u, mut walked, mut last) = (-MOUTH_HALF_WIDTH, 0.0, at(-MOUTH_HALF_WIDTH));
+        while u < MOUTH_HALF_WIDTH {
+            u = (u + step).min(MOUTH_HALF_WIDTH);
+            let p = at(u);
+            walked += ((p[0] - last[0]).powi(2) + (p[1] - last[1]).powi(2)).sqrt();
+            last = p;
+            if walked >= spacing {
+                line.push(p);
+                walked = 0.0;
+            }
+        }
+        line
+    })
 }

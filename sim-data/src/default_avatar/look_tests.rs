@@ -1,8 +1,9 @@
 //! Tests of how the default avatar looks: a material per kind of part,
-//! painted eyes, tinted lips. Each fails if that detail is lost.
+//! painted eyes, lips in their own material. Each fails if that detail is lost.
 
 use super::*;
-use crate::face_mask::{MOUTH_CENTRE, MOUTH_HALF_WIDTH};
+use crate::face_mask::{MOUTH_CENTRE, MOUTH_HALF_WIDTH, face_mask};
+use std::collections::BTreeSet;
 
 fn avatar() -> &'static DefaultAvatar {
     default_avatar()
@@ -67,26 +68,72 @@ fn iris_and_pupil_sit_on_the_cornea_and_turn_with_the_eyeball() {
 }
 
 #[test]
-fn the_lips_are_tinted_and_the_rest_of_the_skin_is_not() {
+fn the_lips_wear_their_own_material_ending_on_the_vermilion_border() {
     let a = avatar();
-    let options = glb_options(a);
-    let colours = options.part_colours[a.skin].as_ref().unwrap();
     let skin = &a.avatar.parts[a.skin];
-    assert_eq!(colours.len(), skin.positions.len());
-    let lip_height = lips::VERMILION_HEIGHT[1];
-    let (mut lips, mut rest) = (0, 0);
-    for (p, c) in skin.positions.iter().zip(colours) {
-        let (u, v) = (p.x as f64 - MOUTH_CENTRE[0], p.y as f64 - MOUTH_CENTRE[1]);
-        if u.abs() < 0.5 * MOUTH_HALF_WIDTH && v.abs() < 0.3 * lip_height && p.z > 0.03 {
-            // The middle of the lips: redder than the skin.
-            assert!(c.y < 0.6 && c.x > c.y, "{c}");
-            lips += 1;
-        } else if (u.hypot(v)) > 2.0 * MOUTH_HALF_WIDTH {
-            assert_eq!(*c, Vec3::ONE);
-            rest += 1;
+    let mask = face_mask();
+    let tris = mask.topology.triangles();
+    let uv = |v: u32| -> Option<[f64; 2]> {
+        let m = a.true_correspondence.get(v as usize)?;
+        let t = tris[m.triangle as usize];
+        Some([0, 1].map(|d| {
+            (0..3)
+                .map(|k| m.barycentric[k] * mask.uv[t[k] as usize][d])
+                .sum()
+        }))
+    };
+    // The lips' triangles are the last ones, written in the lips' material.
+    let options = glb_options(a);
+    let split = &options.part_splits[a.skin];
+    assert_eq!(split.len(), 1);
+    assert_eq!(
+        (split[0].first_triangle, split[0].name.as_str()),
+        (a.lips_from, "lips")
+    );
+    let lips = &skin.triangles[a.lips_from..];
+    assert!(lips.len() > 200, "{} triangles on the lips", lips.len());
+    // Every vertex of a lip triangle is a face vertex within the border (or
+    // on it); every other face triangle's centroid is outside it.
+    for t in lips {
+        for &v in t {
+            let [u, w] = uv(v).expect("a face vertex");
+            let (u, w) = (u - MOUTH_CENTRE[0], w - MOUTH_CENTRE[1]);
+            let border = lips::vermilion_border(u, usize::from(w < 0.0));
+            assert!(
+                w.abs() <= border + 1e-9
+                    || border == 0.0
+                    || w.abs() - border < 0.3 * face::FACE_SPACING,
+                "vertex {v} at {u:.4}, {w:.4}"
+            );
         }
     }
-    assert!(lips > 20 && rest > 5_000, "{lips} on the lips, {rest} off");
+    // Where the material changes, the edge lies on the border: the
+    // vertices shared by a lip triangle and a skin triangle are on the
+    // curve (away from the corners, where the border meets the slit).
+    let on_lips: BTreeSet<u32> = lips.iter().flatten().copied().collect();
+    let on_skin: BTreeSet<u32> = skin.triangles[..a.lips_from]
+        .iter()
+        .flatten()
+        .copied()
+        .collect();
+    let (mut on_curve, mut off) = (0, 0);
+    for v in on_lips.intersection(&on_skin) {
+        let [u, w] = uv(*v).expect("a face vertex");
+        let (u, w) = (u - MOUTH_CENTRE[0], w - MOUTH_CENTRE[1]);
+        if u.abs() > 0.8 * MOUTH_HALF_WIDTH {
+            continue;
+        }
+        let border = lips::vermilion_border(u, usize::from(w < 0.0));
+        if (w.abs() - border).abs() < 1e-9 {
+            on_curve += 1;
+        } else {
+            off += 1;
+        }
+    }
+    assert!(
+        on_curve > 40 && off == 0,
+        "{on_curve} border vertices on the curve, {off} off it"
+    );
 }
 
 #[test]

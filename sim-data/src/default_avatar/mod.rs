@@ -12,8 +12,8 @@
 //! | face skin | [`face`] | mask's parameter plane resampled (1.7 mm hex grid), each vertex at a barycentric point of a mask triangle |
 //! | nostrils | [`nostrils`] | two dark ovals painted on the nose's underside, a tint per skin vertex |
 //! | shading | [`shading`] | the mask's vertex normals interpolated on the face (Phong), the head's own, blended across the outline |
-//! | lips' colour | [`lips`] | the red of the lips in the mask's parameter plane, a tint per skin vertex |
-//! | materials | [`looks`], [`part_looks`], [`MATERIALS`], [`PART_MATERIALS`] | a plain PBR material per kind of part: skin, sockets, mouth lining, sclera, iris, pupil, teeth, gums, tongue |
+//! | lips | [`lips`] | the red of the lips in the mask's parameter plane, a material of its own ending on edges along the vermilion border |
+//! | materials | [`looks`], [`part_looks`], [`MATERIALS`], [`PART_MATERIALS`] | a plain PBR material per kind of part: skin, lips, sockets, mouth lining, sclera, iris, pupil, teeth, gums, tongue |
 //! | skin and its shapes at any spacing | [`skin`] | face region and head joined at the outline, the template continued past it (the low-poly test avatar resamples it coarser) |
 //! | head, neck, shoulders | [`head`] | star-shaped implicit surface about `head::CENTRE`, rings 4.5 mm apart, joined to the face's outline |
 //! | ears | [`ears`] | pressed ellipsoid shells, roots sunk into the head |
@@ -95,9 +95,9 @@ pub struct DefaultAvatar {
     pub tongue: usize,
     /// Centres of the eyeballs `[left, right]` (m).
     pub eye_centres: [Vec3; 2],
-    /// Share of the lips' colour at each skin vertex (0 on the skin, 1 on
-    /// the red of the lips; [`lips::lip_share`]).
-    pub lip_share: Vec<f32>,
+    /// Index of the skin's first triangle on the red of the lips: the
+    /// skin's triangles from it on wear the lips' material ([`lips`]).
+    pub lips_from: usize,
     /// Share of the nostrils' colour at each skin vertex
     /// ([`nostrils::nostril_share`]).
     pub nostril_share: Vec<f32>,
@@ -265,7 +265,6 @@ fn build_default_avatar() -> DefaultAvatar {
         out.resize(skin.positions.len(), 0.0);
         out
     };
-    let lip_share = paint(lips::lip_share);
     let nostril_share = paint(nostrils::nostril_share);
     let mut parts = vec![part("skin", 0, 0, &skin_mesh, skin.targets.clone())];
     let ear_mesh = {
@@ -369,7 +368,7 @@ fn build_default_avatar() -> DefaultAvatar {
         gums: [12, 13],
         tongue: 14,
         eye_centres,
-        lip_share,
+        lips_from: skin.lips_from,
         nostril_share,
         skin_normals: shading::skin_normals(
             &skin.positions,
@@ -402,8 +401,9 @@ pub fn looks(avatar: &Avatar) -> Vec<likeness::avatar::glb::MeshLook> {
 /// base colour and roughness. Colours are from photographs of each tissue
 /// under daylight turned linear, rounded; roughness from how glossy each
 /// looks (the wet cornea and tongue glossy, skin matte).
-pub const MATERIALS: [(&str, [f32; 3], f32); 9] = [
+pub const MATERIALS: [(&str, [f32; 3], f32); 10] = [
     ("skin", [0.80, 0.57, 0.46], 0.6),
+    ("lips", [0.56, 0.24, 0.24], 0.45),
     ("socket", [0.45, 0.20, 0.20], 0.5),
     ("mouth", [0.35, 0.09, 0.10], 0.5),
     ("sclera", [0.90, 0.88, 0.85], 0.15),
@@ -453,33 +453,35 @@ pub fn part_looks(avatar: &Avatar) -> Vec<Option<(String, likeness::avatar::glb:
         .collect()
 }
 
-/// Colour of the red of the lips (linear RGB), a tint over the skin's.
-pub const LIP_COLOUR: [f32; 3] = [0.56, 0.24, 0.24];
-
 /// Colour of the nostrils (linear RGB), a tint over the skin's: the
 /// shadowed inside of the nose, dark and a little red.
 pub const NOSTRIL_COLOUR: [f32; 3] = [0.10, 0.04, 0.04];
 
 /// How the default avatar is written as a GLB: [`looks`], [`part_looks`],
-/// the lips' and nostrils' colours as a tint of the skin's vertices
-/// ([`LIP_COLOUR`] and [`NOSTRIL_COLOUR`] over the skin's, by
-/// [`DefaultAvatar::lip_share`] and [`DefaultAvatar::nostril_share`]), the skin's shading
-/// normals ([`DefaultAvatar::skin_normals`]), dense targets.
+/// the lips' triangles in the lips' material (sharing the skin's vertices,
+/// from [`DefaultAvatar::lips_from`] on), the nostrils' colour as a tint of
+/// the skin's vertices ([`NOSTRIL_COLOUR`] over the skin's, by
+/// [`DefaultAvatar::nostril_share`]), the skin's shading normals
+/// ([`DefaultAvatar::skin_normals`]), dense targets.
 pub fn glb_options(built: &DefaultAvatar) -> likeness::avatar::glb::NewGlbOptions {
     let avatar = &built.avatar;
     let part_looks = part_looks(avatar);
     let skin_colour = material("skin").map_or([1.0; 3], |m| m.0);
-    let lip = Vec3::from(LIP_COLOUR) / Vec3::from(skin_colour);
     let nostril = Vec3::from(NOSTRIL_COLOUR) / Vec3::from(skin_colour);
     let mut part_colours = vec![None; avatar.parts.len()];
     part_colours[built.skin] = Some(
-        built
-            .lip_share
-            .iter()
-            .zip(&built.nostril_share)
-            .map(|(&l, &n)| Vec3::ONE.lerp(lip, l).lerp(nostril, n))
+        (built.nostril_share.iter())
+            .map(|&n| Vec3::ONE.lerp(nostril, n))
             .collect(),
     );
+    let mut part_splits = vec![Vec::new(); avatar.parts.len()];
+    if let Some((_, look)) = material("lips") {
+        part_splits[built.skin] = vec![likeness::avatar::glb::MaterialSplit {
+            first_triangle: built.lips_from,
+            name: "lips".into(),
+            look,
+        }];
+    }
     let mut part_normals = vec![None; avatar.parts.len()];
     part_normals[built.skin] = Some(built.skin_normals.clone());
     likeness::avatar::glb::NewGlbOptions {
@@ -487,6 +489,7 @@ pub fn glb_options(built: &DefaultAvatar) -> likeness::avatar::glb::NewGlbOption
         part_looks,
         part_colours,
         part_normals,
+        part_splits,
         ..Default::default()
     }
 }

@@ -19,8 +19,11 @@ pub struct Skin {
     pub face: FaceRegion,
     /// Face vertices, then the head's own (m).
     pub positions: Vec<DVec3>,
-    /// Triangles over `positions`, outward-facing.
+    /// Triangles over `positions`, outward-facing; those of the red of the
+    /// lips last, from `lips_from` on.
     pub triangles: Vec<[u32; 3]>,
+    /// Index of the first triangle on the red of the lips.
+    pub lips_from: usize,
     /// The 52 shapes in Apple's order, one delta per skin vertex.
     pub targets: Vec<Vec<DVec3>>,
     /// The 52 shapes on the face region only (`targets` restricted to its
@@ -53,8 +56,16 @@ pub fn skin(face_spacing: f64, head_spacing: f64) -> Skin {
     };
     let mut positions = face.positions.clone();
     positions.extend(&head.positions);
-    let mut triangles = face.triangles.clone();
+    // The face's triangles but the lips', the head's, then the lips' (a
+    // material of their own: the last triangles, from `lips_from` on).
+    let face_where = |lips: bool| {
+        let marked = face.triangles.iter().zip(&face.on_the_lips);
+        marked.filter(move |(_, l)| **l == lips).map(|(t, _)| *t)
+    };
+    let mut triangles: Vec<[u32; 3]> = face_where(false).collect();
     triangles.extend(head.triangles.iter().map(|t| t.map(remap)));
+    let lips_from = triangles.len();
+    triangles.extend(face_where(true));
     let template = generic_template();
     let mut face_targets = shapes::face_targets(&face.on_mask, &template, tris);
     mouth_opening::round(
@@ -88,6 +99,7 @@ pub fn skin(face_spacing: f64, head_spacing: f64) -> Skin {
         face,
         positions,
         triangles,
+        lips_from,
         targets,
         face_targets,
         neck_bottom,

@@ -477,9 +477,19 @@ fn default_avatar_glb_reads_back_with_all_52_targets_and_its_materials() {
     assert_eq!(
         materials,
         [
-            "skin", "socket", "mouth", "sclera", "iris", "pupil", "teeth", "gums", "tongue"
+            "skin", "lips", "socket", "mouth", "sclera", "iris", "pupil", "teeth", "gums", "tongue"
         ]
     );
+    // The lips are a primitive of their own sharing the skin's vertices:
+    // read back, one part again, with the skin's triangles.
+    let built = &avatar().avatar;
+    assert_eq!(glb.avatar.parts.len(), built.parts.len());
+    let skin = avatar().skin;
+    assert_eq!(
+        glb.avatar.parts[skin].triangles,
+        built.parts[skin].triangles
+    );
+    assert_eq!(glb.splits[skin].len(), 1);
     assert_eq!(
         default_avatar_glb().unwrap(),
         bytes,

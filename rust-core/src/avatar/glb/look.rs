@@ -4,14 +4,17 @@
 //! and "Meshes" (`COLOR_0`, which multiplies the base colour).
 //!
 //! A vertex's colour is `baseColorFactor.rgb × COLOR_0.rgb` (linear; `COLOR_0`
-//! as `VEC3` or `VEC4`, floats or normalized integers). A part has none when
+//! as `VEC3` or `VEC4`, floats or normalized integers). On a part whose
+//! primitives share its vertices in several materials, the base colour of
+//! a vertex is the mean of its triangles' materials' (a border vertex
+//! blends them). A part has none when
 //! its colour lives elsewhere: a `baseColorTexture` (images are never
 //! decoded), no material (the spec's default is plain white, which says
 //! nothing), or a `COLOR_0` that cannot be read as one colour per vertex.
 
-use super::GlbAvatar;
 use super::accessor::Source;
 use super::read::document_of;
+use super::{GlbAvatar, PrimitiveSplit};
 use glam::Vec3;
 
 /// Each part's vertex colours (linear RGB, one per vertex), in
@@ -28,23 +31,32 @@ pub fn part_colours(glb: &GlbAvatar) -> Vec<Option<Vec<Vec3>>> {
     glb.avatar
         .parts
         .iter()
-        .map(|part| {
-            let primitive = document
-                .meshes()
-                .nth(part.mesh)?
-                .primitives()
-                .nth(part.primitive)?;
-            let material = primitive.material();
-            material.index()?;
-            let pbr = material.pbr_metallic_roughness();
-            if pbr.base_color_texture().is_some() {
-                return None;
-            }
-            let [r, g, b, _] = pbr.base_color_factor();
-            let base = Vec3::new(r, g, b);
+        .zip(&glb.splits)
+        .map(|(part, splits)| {
+            let mesh = document.meshes().nth(part.mesh)?;
+            let base_of = |p: usize| {
+                let material = mesh.primitives().nth(p)?.material();
+                material.index()?;
+                let pbr = material.pbr_metallic_roughness();
+                if pbr.base_color_texture().is_some() {
+                    return None;
+                }
+                let [r, g, b, _] = pbr.base_color_factor();
+                Some(Vec3::new(r, g, b))
+            };
+            let base = base_of(part.primitive)?;
             let n = part.positions.len();
+            let mut colours = vec![base; n];
+            if !splits.is_empty() {
+                let bases: Vec<Vec3> = splits
+                    .iter()
+                    .map(|s| base_of(s.primitive))
+                    .collect::<Option<_>>()?;
+                colours = blended(n, &part.triangles, base, splits, &bases);
+            }
+            let primitive = mesh.primitives().nth(part.primitive)?;
             let Some(accessor) = primitive.get(&gltf::Semantic::Colors(0)) else {
-                return Some(vec![base; n]);
+                return Some(colours);
             };
             let width = accessor.dimensions().multiplicity();
             let values = source.floats(&accessor).ok()?;
@@ -52,8 +64,44 @@ pub fn part_colours(glb: &GlbAvatar) -> Vec<Option<Vec<Vec3>>> {
                 return None;
             }
             let tint = values.chunks_exact(width);
-            Some(tint.map(|c| base * Vec3::new(c[0], c[1], c[2])).collect())
+            Some(
+                colours
+                    .iter()
+                    .zip(tint)
+                    .map(|(c, t)| *c * Vec3::new(t[0], t[1], t[2]))
+                    .collect(),
+            )
         })
+        .collect()
+}
+
+/// Each vertex's colour on a part in several materials: the mean of the
+/// base colours of the triangles around it (`base` up to the first split,
+/// then `bases[i]` from `splits[i]` on), `base` on no triangle.
+fn blended(
+    n: usize,
+    triangles: &[[u32; 3]],
+    base: Vec3,
+    splits: &[PrimitiveSplit],
+    bases: &[Vec3],
+) -> Vec<Vec3> {
+    let mut sum = vec![(Vec3::ZERO, 0u32); n];
+    for (k, t) in triangles.iter().enumerate() {
+        let colour = splits
+            .iter()
+            .zip(bases)
+            .rev()
+            .find(|(s, _)| k >= s.first_triangle)
+            .map_or(base, |(_, c)| *c);
+        for &v in t {
+            if let Some(s) = sum.get_mut(v as usize) {
+                s.0 += colour;
+                s.1 += 1;
+            }
+        }
+    }
+    sum.into_iter()
+        .map(|(c, k)| if k == 0 { base } else { c / k as f32 })
         .collect()
 }
 

@@ -43,7 +43,7 @@ mod tests;
 
 pub use encode::TargetEncoding;
 pub use error::GlbError;
-pub use read::{GlbAvatar, check_avatar, read_avatar, read_avatar_bytes};
+pub use read::{GlbAvatar, PrimitiveSplit, check_avatar, read_avatar, read_avatar_bytes};
 pub use scene::Placement;
 pub use write_back::{NewShapes, write_avatar, written_back_glb};
-pub use write_new::{MeshLook, NewGlbOptions, new_avatar_glb, write_new_avatar};
+pub use write_new::{MaterialSplit, MeshLook, NewGlbOptions, new_avatar_glb, write_new_avatar};

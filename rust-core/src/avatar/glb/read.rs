@@ -10,6 +10,12 @@
 //!   vertices at one place (zero area) is accepted, as real avatars have
 //!   them at seams and the geometry code weighs by area.
 //! - A mesh placed by several nodes gives one part per placement.
+//! - Primitives of one mesh that share their vertex attributes and their
+//!   targets (the same accessors: glTF 2.0, "Meshes", lets primitives
+//!   share them, and exporters write a surface in several materials that
+//!   way) are one part, the later primitives' triangles appended to the
+//!   first's ([`GlbAvatar::splits`] says where), since they are one welded
+//!   surface.
 //! - Target names come from the mesh's `extras.targetNames`, else the first
 //!   primitive's `extras.targetNames`, else the name of the target's
 //!   `POSITION` accessor, else `target N`.
@@ -46,10 +52,25 @@ pub struct GlbAvatar {
     pub avatar: Avatar,
     /// Where each of `avatar.parts` is placed (same order).
     pub placements: Vec<Placement>,
+    /// For each of `avatar.parts` (same order), the further primitives that
+    /// share its vertices, in file order; empty for a part of one
+    /// primitive.
+    pub splits: Vec<Vec<PrimitiveSplit>>,
     /// The file it came from, for messages.
     pub file: PathBuf,
     pub(crate) json: serde_json::Value,
     pub(crate) buffers: Vec<Vec<u8>>,
+}
+
+/// A primitive whose vertices are those of an earlier primitive's part:
+/// the part's triangles from `first_triangle` (up to the next split) are
+/// its.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PrimitiveSplit {
+    /// Index of the primitive within its glTF mesh.
+    pub primitive: usize,
+    /// Index in the part's triangles of the primitive's first.
+    pub first_triangle: usize,
 }
 
 impl GlbAvatar {
@@ -147,8 +168,9 @@ fn read(bytes: &[u8], file: &Path, folder: Option<&Path>) -> Result<GlbAvatar, G
             target_names: target_names(&mesh, &json),
         });
     }
-    let mut out_parts = Vec::new();
+    let mut out_parts: Vec<AvatarPart> = Vec::new();
     let mut out_placements = Vec::new();
+    let mut splits: Vec<Vec<PrimitiveSplit>> = Vec::new();
     for placement in &placed {
         let Some(mesh) = document.meshes().nth(placement.mesh) else {
             continue;
@@ -158,9 +180,27 @@ fn read(bytes: &[u8], file: &Path, folder: Option<&Path>) -> Result<GlbAvatar, G
             .and_then(|n| n.name().map(str::to_string))
             .or_else(|| mesh.name().map(str::to_string))
             .unwrap_or_else(|| format!("mesh {}", mesh.index()));
+        let first_part = out_parts.len();
         for primitive in mesh.primitives() {
-            out_parts.push(read_part(&source, &mesh, &primitive, placement, &name)?);
-            out_placements.push(*placement);
+            let vertices = &json["meshes"][mesh.index()]["primitives"];
+            let shares = |q: usize| {
+                let (a, b) = (&vertices[q], &vertices[primitive.index()]);
+                a["attributes"] == b["attributes"] && a["targets"] == b["targets"]
+            };
+            let earlier = (first_part..out_parts.len()).find(|&k| shares(out_parts[k].primitive));
+            let Some(k) = earlier else {
+                out_parts.push(read_part(&source, &mesh, &primitive, placement, &name)?);
+                out_placements.push(*placement);
+                splits.push(Vec::new());
+                continue;
+            };
+            let n = out_parts[k].positions.len();
+            let more = read_triangles(&source, &primitive, n, placement)?;
+            splits[k].push(PrimitiveSplit {
+                primitive: primitive.index(),
+                first_triangle: out_parts[k].triangles.len(),
+            });
+            out_parts[k].triangles.extend(more);
         }
     }
     if out_parts.is_empty() {
@@ -174,6 +214,7 @@ fn read(bytes: &[u8], file: &Path, folder: Option<&Path>) -> Result<GlbAvatar, G
             parts: out_parts,
         },
         placements: out_placements,
+        splits,
         file: file.to_path_buf(),
         json,
         buffers,
@@ -290,25 +331,55 @@ fn read_part(
     name: &str,
 ) -> Result<AvatarPart, GlbError> {
     let (m, p) = (mesh.index(), primitive.index());
-    let file = source.file.to_path_buf();
-    let prim_err = |what: &str| GlbError::Primitive {
-        file: file.clone(),
-        mesh: m,
-        primitive: p,
-        what: what.to_string(),
-    };
-    if primitive.mode() != gltf::mesh::Mode::Triangles {
-        return Err(prim_err(&format!(
-            "mode {:?}; only TRIANGLES is read",
-            primitive.mode()
-        )));
-    }
+    let prim_err = |what: &str| primitive_error(source.file, m, p, what);
     let accessor = primitive
         .get(&gltf::Semantic::Positions)
         .ok_or_else(|| prim_err("no POSITION"))?;
     let local = source.vec3(&accessor, None)?;
     check_finite(&local, source.file, m, p, "position")?;
     let n = local.len();
+    let triangles = read_triangles(source, primitive, n, placement)?;
+    let linear = placement.linear();
+    let mut targets = Vec::new();
+    for (t, target) in primitive.morph_targets().enumerate() {
+        let d = match target.positions() {
+            Some(a) => source.vec3(&a, Some(n))?,
+            None => vec![Vec3::ZERO; n],
+        };
+        check_finite(&d, source.file, m, p, &format!("target {t}"))?;
+        targets.push(d.into_iter().map(|v| linear * v).collect());
+    }
+    Ok(AvatarPart {
+        name: name.to_string(),
+        mesh: m,
+        primitive: p,
+        positions: local
+            .iter()
+            .map(|&v| placement.world.transform_point3(v))
+            .collect(),
+        triangles,
+        targets,
+    })
+}
+
+/// A primitive's triangles over its `n` vertices, each reversed where the
+/// placement mirrors (module docs): an error for a mode other than
+/// `TRIANGLES`, an index count not a multiple of 3, an index past `n` or a
+/// repeated index.
+fn read_triangles(
+    source: &Source,
+    primitive: &gltf::Primitive,
+    n: usize,
+    placement: &Placement,
+) -> Result<Vec<[u32; 3]>, GlbError> {
+    let (m, p) = (placement.mesh, primitive.index());
+    let prim_err = |what: &str| primitive_error(source.file, m, p, what);
+    if primitive.mode() != gltf::mesh::Mode::Triangles {
+        return Err(prim_err(&format!(
+            "mode {:?}; only TRIANGLES is read",
+            primitive.mode()
+        )));
+    }
     let indices = match primitive.indices() {
         Some(a) => source.indices(&a)?,
         None => (0..n as u32).collect(),
@@ -332,34 +403,24 @@ fn read_part(
             continue;
         };
         return Err(GlbError::Triangle {
-            file: file.clone(),
+            file: source.file.to_path_buf(),
             mesh: m,
             primitive: p,
             triangle: k,
             what,
         });
     }
-    let linear = placement.linear();
-    let mut targets = Vec::new();
-    for (t, target) in primitive.morph_targets().enumerate() {
-        let d = match target.positions() {
-            Some(a) => source.vec3(&a, Some(n))?,
-            None => vec![Vec3::ZERO; n],
-        };
-        check_finite(&d, source.file, m, p, &format!("target {t}"))?;
-        targets.push(d.into_iter().map(|v| linear * v).collect());
+    Ok(triangles)
+}
+
+/// What is wrong with primitive `primitive` of mesh `mesh`.
+fn primitive_error(file: &Path, mesh: usize, primitive: usize, what: &str) -> GlbError {
+    GlbError::Primitive {
+        file: file.to_path_buf(),
+        mesh,
+        primitive,
+        what: what.to_string(),
     }
-    Ok(AvatarPart {
-        name: name.to_string(),
-        mesh: m,
-        primitive: p,
-        positions: local
-            .iter()
-            .map(|&v| placement.world.transform_point3(v))
-            .collect(),
-        triangles,
-        targets,
-    })
 }
 
 fn check_finite(

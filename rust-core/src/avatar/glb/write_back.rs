@@ -10,7 +10,10 @@
 //!   after the existing targets) if it moves any vertex of the mesh; every
 //!   primitive of the mesh gets it (zeros where it moves nothing);
 //! - ARKit targets without new data keep their data and take ARKit's exact
-//!   name; every other target is kept untouched.
+//!   name; every other target is kept untouched;
+//! - primitives that shared their vertices and targets (one part, see
+//!   `read.rs`) share the new rest and targets as well: written once, for
+//!   the first, and referred to by the others.
 //!
 //! New data is world space; it is taken back to the primitive's own space
 //! through the inverse of its node's linear part (a mesh placed twice is
@@ -155,10 +158,31 @@ pub fn written_back_glb(
             .as_array()
             .map_or(0, Vec::len);
         for p in 0..primitives {
-            let Some(k) = (0..avatar.avatar.parts.len()).find(|&k| {
-                avatar.avatar.parts[k].mesh == m && avatar.avatar.parts[k].primitive == p
-            }) else {
-                return Err(err(format!("mesh {m} primitive {p}: not read")));
+            let of_mesh = |k: &usize| avatar.avatar.parts[*k].mesh == m;
+            let own = (0..avatar.avatar.parts.len())
+                .filter(of_mesh)
+                .find(|&k| avatar.avatar.parts[k].primitive == p);
+            let Some(k) = own else {
+                // A primitive sharing an earlier one's vertices (read.rs)
+                // shares its new accessors too.
+                let sharing = (0..avatar.avatar.parts.len())
+                    .filter(of_mesh)
+                    .find(|&k| avatar.splits[k].iter().any(|s| s.primitive == p));
+                let Some(k) = sharing else {
+                    return Err(err(format!("mesh {m} primitive {p}: not read")));
+                };
+                let first =
+                    doc["meshes"][m]["primitives"][avatar.avatar.parts[k].primitive].clone();
+                let prim = &mut doc["meshes"][m]["primitives"][p];
+                for key in ["attributes", "targets"] {
+                    if !first[key].is_null() {
+                        prim[key] = first[key].clone();
+                    }
+                }
+                if !first["targets"].is_null() {
+                    set_target_names(prim, &names);
+                }
+                continue;
             };
             let linear = avatar.placements[k].linear();
             let inverse = linear.inverse();

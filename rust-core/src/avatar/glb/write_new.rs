@@ -1,8 +1,9 @@
 //! Writing an [`Avatar`] as a new GLB: one glTF mesh per [`AvatarMesh`]
 //! (each placed by a node of its own at the origin, since the avatar is
-//! already in world space), one primitive per part, a plain PBR material
-//! per mesh, or per part where the caller gives a part its own, in a colour
-//! the caller gives, and smooth vertex normals: the caller's shading normals
+//! already in world space), one primitive per part (more where the caller
+//! splits a part between materials, sharing its vertices), a plain PBR
+//! material per mesh, or per part where the caller gives a part its own, in
+//! a colour the caller gives, and smooth vertex normals: the caller's shading normals
 //! where it gives a part its own, else the surface's.
 //!
 //! A vertex's normal is the sum of `(b − a) × (c − a)` over the triangles
@@ -59,6 +60,22 @@ impl MeshLook {
     }
 }
 
+/// A material for the later triangles of a part: from `first_triangle` up
+/// to the next split (or the end), the part's triangles are written as a
+/// primitive of their own in the material `name`, sharing the part's
+/// vertex attributes and targets (glTF 2.0, "Meshes": primitives may share
+/// accessors), so the surface stays one welded surface, read back as one
+/// part (`read.rs`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct MaterialSplit {
+    /// Index of the first triangle in the material.
+    pub first_triangle: usize,
+    /// The material's name; parts and splits naming one material share it.
+    pub name: String,
+    /// The material's look (its first look counts).
+    pub look: MeshLook,
+}
+
 /// How [`write_new_avatar`] writes.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct NewGlbOptions {
@@ -82,6 +99,11 @@ pub struct NewGlbOptions {
     /// smoothly with the coarser one's normals interpolated). A list of the
     /// wrong length, or a normal not of unit length, is refused.
     pub part_normals: Vec<Option<Vec<Vec3>>>,
+    /// Materials within a part, in [`Avatar::parts`] order: the lips of a
+    /// skin. Each part's splits are in increasing order of their first
+    /// triangle, within its triangles and past its first; other lists are
+    /// refused.
+    pub part_splits: Vec<Vec<MaterialSplit>>,
     /// Dense or smallest targets.
     pub encoding: TargetEncoding,
 }
@@ -139,7 +161,6 @@ pub fn new_avatar_glb(
                 }
             };
             let normal = b.vec3(normals);
-            let indices = b.triangles(&part.triangles);
             let surface = WeldedSurface::new(&part.positions, &part.triangles);
             let moved: Vec<&[Vec3]> = part.targets.iter().map(Vec::as_slice).collect();
             let turns =
@@ -151,6 +172,23 @@ pub fn new_avatar_glb(
                     "NORMAL": b.target(turn, "", options.encoding),
                 }));
             }
+            let splits = options.part_splits.get(k).map_or(&[][..], Vec::as_slice);
+            let ends: Vec<usize> = splits.iter().map(|s| s.first_triangle).collect();
+            let increasing = ends.windows(2).all(|w| w[0] < w[1]);
+            if !increasing
+                || ends.first().is_some_and(|&f| f == 0)
+                || ends.last().is_some_and(|&l| l >= part.triangles.len())
+            {
+                return Err(GlbError::Write {
+                    file: file.to_path_buf(),
+                    what: format!(
+                        "part {k}: material splits {ends:?} not increasing within its {} triangles",
+                        part.triangles.len()
+                    ),
+                });
+            }
+            let first_end = ends.first().copied().unwrap_or(part.triangles.len());
+            let indices = b.triangles(&part.triangles[..first_end]);
             let mut p = json!({
                 "attributes": { "POSITION": position, "NORMAL": normal },
                 "indices": indices, "material": material, "mode": 4,
@@ -168,7 +206,15 @@ pub fn new_avatar_glb(
                 p["targets"] = Value::Array(targets);
                 p["extras"] = json!({ "targetNames": names });
             }
+            let first = p.clone();
             primitives.push(p);
+            for (i, split) in splits.iter().enumerate() {
+                let end = ends.get(i + 1).copied().unwrap_or(part.triangles.len());
+                let mut shared = first.clone();
+                shared["indices"] = json!(b.triangles(&part.triangles[split.first_triangle..end]));
+                shared["material"] = json!(materials.index(&split.name, split.look));
+                primitives.push(shared);
+            }
         }
         let mut out = json!({ "name": name, "primitives": primitives });
         if !names.is_empty() {

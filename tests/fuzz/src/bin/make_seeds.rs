@@ -10,7 +10,7 @@
 //! and the default avatar (1.8 MB), to run each target once on real-sized
 //! files.
 
-use likeness::avatar::glb::{NewGlbOptions, new_avatar_glb};
+use likeness::avatar::glb::{MaterialSplit, MeshLook, NewGlbOptions, new_avatar_glb};
 use likeness::session::file;
 use likeness::session::interchange::export_folder;
 use likeness::{Frame, Session};
@@ -170,6 +170,17 @@ fn glb_seeds(out: &Path) {
         let glb = new_avatar_glb(&avatar, &options, Path::new(name)).expect("tiny GLB");
         put(&dir, name, &glb);
     }
+    // The head in two materials: two primitives sharing its vertices.
+    let options = NewGlbOptions {
+        part_splits: vec![vec![MaterialSplit {
+            first_triangle: avatar.parts[0].triangles.len() / 2,
+            name: "lips".into(),
+            look: MeshLook::GUM,
+        }]],
+        ..NewGlbOptions::default()
+    };
+    let glb = new_avatar_glb(&avatar, &options, Path::new("s.glb")).expect("tiny GLB");
+    put(&dir, "tiny-two-materials.glb", &glb);
     // The same, quantized and meshopt-compressed (issue 21).
     let glb =
         new_avatar_glb(&avatar, &NewGlbOptions::default(), Path::new("t.glb")).expect("tiny GLB");

@@ -7,9 +7,11 @@
 //! | placement, names, skins, every error | `reading.rs` |
 //! | a new rest written back, normals and tangents turned | `rest.rs` |
 //! | write-back rules, JSON kept, sparse and dense, `.gltf` with a `.bin` or a data URI | `writing.rs` |
+//! | a surface in several materials: primitives sharing vertices | `shared_vertices.rs` |
 
 mod reading;
 mod rest;
+mod shared_vertices;
 mod writing;
 
 use super::container::join;

@@ -53,6 +53,16 @@ fn surface_radius(theta: f64) -> f64 {
     EYE_RADIUS.max(t)
 }
 
+/// The farthest the surface of an eye turned by any of `gazes` reaches
+/// from its centre along the unit direction `d` (m): the globe's radius
+/// where the cornea never passes, more where it does.
+pub fn farthest_reach(d: DVec3, gazes: &[DMat3]) -> f64 {
+    gazes
+        .iter()
+        .map(|g| surface_radius((g.transpose() * d).z.clamp(-1.0, 1.0).acos()))
+        .fold(EYE_RADIUS, f64::max)
+}
+
 /// Rings from the front pole to the back pole (front pole excluded).
 pub const RINGS: usize = 34;
 /// Vertices per ring.

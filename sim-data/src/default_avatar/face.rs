@@ -57,6 +57,8 @@ pub struct FaceRegion {
     /// Whether each triangle is on the red of the lips (its centroid within
     /// the vermilion border, [`super::lips::on_the_lips`]).
     pub on_the_lips: Vec<bool>,
+    /// The eye holes' rims `[left, right]`: the lids' edges, in order.
+    pub eye_rims: [Vec<u32>; 2],
 }
 
 /// The mask's boundary loops as vertex lists: left eye, right eye, mouth,
@@ -282,6 +284,7 @@ pub fn face_region_with(spacing: f64) -> FaceRegion {
     let positions = on_mask.iter().map(|m| mask_position(mask, m)).collect();
     let rim = loop_ranges[3].clone().map(|i| i as u32).collect();
     let rim_anchor = anchors[loop_ranges[3].clone()].to_vec();
+    let eye_rims = [0, 1].map(|s| loop_ranges[s].clone().map(|i| i as u32).collect());
     FaceRegion {
         uv,
         on_mask,
@@ -290,6 +293,7 @@ pub fn face_region_with(spacing: f64) -> FaceRegion {
         rim,
         rim_anchor,
         on_the_lips,
+        eye_rims,
     }
 }
 

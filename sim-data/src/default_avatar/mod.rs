@@ -17,6 +17,7 @@
 //! | skin and its shapes at any spacing | [`skin`] | face region and head joined at the outline, the template continued past it (the low-poly test avatar resamples it coarser) |
 //! | head, neck, shoulders | [`head`] | star-shaped implicit surface about `head::CENTRE`, rings 4.5 mm apart, joined to the face's outline |
 //! | ears | [`ears`] | pressed ellipsoid shells, roots sunk into the head |
+//! | lids' thickness | [`lid_margin`] | a band from each eye hole's rim back to the eyeball, clear of it at every gaze and blink weight; the eyes 0.8 mm further back to make room |
 //! | eyeballs, sockets | [`eyes`] | 24 mm globe with an 11.5 mm cornea bulging 2.5 mm, placed as far forward as the lids allow; an iris and a pupil painted on the cornea (their own parts); a 29 mm bowl behind each |
 //! | teeth, gums, tongue, mouth lining | [`mouth`] | 14 rounded-box crowns per jaw on a parabolic arch, tube gums, flattened ellipsoid tongue, an ellipsoid lining open towards the lips |
 //! | rounded mouth opening | [`mouth_opening`] | jawOpen's weight taken towards the corners' share (0.34, measured on ICT-FaceKit) along an ellipse, mouthClose taking it back |
@@ -30,6 +31,7 @@ pub mod ears;
 pub mod eyes;
 pub mod face;
 pub mod head;
+pub mod lid_margin;
 pub mod lips;
 #[cfg(test)]
 mod look_tests;
@@ -95,6 +97,11 @@ pub struct DefaultAvatar {
     pub tongue: usize,
     /// Centres of the eyeballs `[left, right]` (m).
     pub eye_centres: [Vec3; 2],
+    /// The skin's vertices of the lids' margins ([`lid_margin`]), after the
+    /// face's and the head's.
+    pub lid_margin_vertices: std::ops::Range<usize>,
+    /// The skin's triangles of the lids' margins, just before the lips'.
+    pub lid_margin_triangles: std::ops::Range<usize>,
     /// Index of the skin's first triangle on the red of the lips: the
     /// skin's triangles from it on wear the lips' material ([`lips`]).
     pub lips_from: usize,
@@ -180,7 +187,8 @@ pub fn shape_rotation(side: usize, shape: Blendshape) -> DMat3 {
     eyes::gaze_rotation(side, look)
 }
 
-/// The most forward eye depth keeping [`LID_CLEARANCE`] from the skin near
+/// The most forward eye depth keeping [`LID_CLEARANCE`] and room for the
+/// lids' margins ([`lid_margin::MIN_DEPTH`]) from the skin near
 /// the eye (face vertices within 22 mm) at rest, at blink weights ¼…1, at
 /// full gaze in each direction, and with eyeWide and eyeSquint.
 fn eye_depth(side: usize, face: &FaceRegion, targets: &[Vec<DVec3>]) -> f64 {
@@ -209,7 +217,8 @@ fn eye_depth(side: usize, face: &FaceRegion, targets: &[Vec<DVec3>]) -> f64 {
         configs.iter().all(|(shape, w, rot)| {
             near.iter().all(|&v| {
                 let d = shape.map_or(DVec3::ZERO, |s| *w * targets[s.index()][v]);
-                eyes::eye_distance(face.positions[v] + d, centre, *rot) >= LID_CLEARANCE
+                let clear = LID_CLEARANCE + lid_margin::MIN_DEPTH;
+                eyes::eye_distance(face.positions[v] + d, centre, *rot) >= clear
             })
         })
     };
@@ -223,6 +232,52 @@ fn eye_depth(side: usize, face: &FaceRegion, targets: &[Vec<DVec3>]) -> f64 {
         }
     }
     lo
+}
+
+/// Every gaze the eye on `side` turns to, full and half weights of each
+/// direction and their combinations.
+fn gazes(side: usize) -> Vec<DMat3> {
+    let steps: [f64; 5] = [-1.0, -0.5, 0.0, 0.5, 1.0];
+    let mut out = Vec::new();
+    for h in steps {
+        for v in steps {
+            let look = [h.max(0.0), (-h).max(0.0), v.max(0.0), (-v).max(0.0)];
+            out.push(eyes::gaze_rotation(side, look));
+        }
+    }
+    out
+}
+
+/// The skin with the lids' margins ([`lid_margin`]) inside both eye holes:
+/// their vertices after the skin's, their triangles before the lips'.
+fn with_lid_margins(
+    mut skin: skin::Skin,
+    eye_centres: &[Vec3; 2],
+) -> (skin::Skin, std::ops::Range<usize>, std::ops::Range<usize>) {
+    let first_vertex = skin.positions.len();
+    let mut added = Vec::new();
+    for (side, centre) in eye_centres.iter().enumerate() {
+        let margin = lid_margin::margin(
+            &skin.face.eye_rims[side],
+            &skin.positions,
+            &skin.targets,
+            &skin.triangles,
+            (centre.as_dvec3(), &gazes(side)),
+            skin.positions.len() as u32,
+        );
+        skin.positions.extend(&margin.positions);
+        for (all, more) in skin.targets.iter_mut().zip(&margin.targets) {
+            all.extend(more);
+        }
+        added.extend(margin.triangles);
+    }
+    let lips = skin.triangles.split_off(skin.lips_from);
+    skin.triangles.extend(added);
+    let triangles = skin.lips_from..skin.triangles.len();
+    skin.lips_from = skin.triangles.len();
+    skin.triangles.extend(lips);
+    let vertices = first_vertex..skin.positions.len();
+    (skin, vertices, triangles)
 }
 
 fn to_f32(v: &[DVec3]) -> Vec<Vec3> {
@@ -258,6 +313,12 @@ fn build_default_avatar() -> DefaultAvatar {
     let (face, face_t) = (&skin.face, &skin.face_targets);
     // Eyes.
     let all = Blendshape::ALL.to_vec();
+    let eye_centres: [Vec3; 2] = [0, 1].map(|side| {
+        let x = if side == 0 { 1.0 } else { -1.0 } * EYE_CENTRE[0];
+        DVec3::new(x, EYE_CENTRE[1], eye_depth(side, face, face_t)).as_vec3()
+    });
+    let (skin, lid_margin_vertices, lid_margin_triangles) = with_lid_margins(skin, &eye_centres);
+    let face = &skin.face;
     let skin_mesh = (skin.positions.clone(), skin.triangles.clone());
     // A share per skin vertex from the face's parameter plane, 0 on the head.
     let paint = |share: fn([f64; 2]) -> f64| -> Vec<f32> {
@@ -279,12 +340,9 @@ fn build_default_avatar() -> DefaultAvatar {
     };
     let ear_targets = vec![vec![DVec3::ZERO; ear_mesh.0.len()]; all.len()];
     parts.push(part("ears", 0, 1, &ear_mesh, ear_targets));
-    let mut eye_centres = [Vec3::ZERO; 2];
     let mut eye_parts = Vec::new();
-    for (side, slot) in eye_centres.iter_mut().enumerate() {
-        let x = if side == 0 { 1.0 } else { -1.0 } * EYE_CENTRE[0];
-        let centre = DVec3::new(x, EYE_CENTRE[1], eye_depth(side, face, face_t));
-        *slot = centre.as_vec3();
+    for (side, centre) in eye_centres.iter().enumerate() {
+        let centre = centre.as_dvec3();
         let own = eye_shapes(side);
         let name = if side == 0 { "eyeLeft" } else { "eyeRight" };
         let [iris, pupil] = eyes::iris_and_pupil(centre);
@@ -368,6 +426,8 @@ fn build_default_avatar() -> DefaultAvatar {
         gums: [12, 13],
         tongue: 14,
         eye_centres,
+        lid_margin_vertices,
+        lid_margin_triangles,
         lips_from: skin.lips_from,
         nostril_share,
         skin_normals: shading::skin_normals(

@@ -151,11 +151,16 @@ fn default_avatar_skin_is_one_surface_with_four_openings() {
             .iter()
             .any(|l| l.iter().copied().collect::<BTreeSet<_>>() == bottom)
     );
+    // The mouth's opening is the face's; the eyes' are the lids' margins'
+    // inner edges.
     let nf = a.true_correspondence.len() as u32;
     assert_eq!(
         loops.iter().filter(|l| l.iter().all(|&v| v < nf)).count(),
-        3
+        1
     );
+    let margin = &a.lid_margin_vertices;
+    let of_margins = |l: &&Vec<u32>| l.iter().all(|&v| margin.contains(&(v as usize)));
+    assert_eq!(loops.iter().filter(of_margins).count(), 2);
     // Connected: a walk over the triangles reaches every vertex.
     let mut parent: Vec<u32> = (0..skin.positions.len() as u32).collect();
     fn find(p: &mut [u32], x: u32) -> u32 {
@@ -452,8 +457,10 @@ fn default_avatar_head_has_no_folds() {
             edge.entry((x.min(y), x.max(y))).or_default().push(k);
         }
     }
+    // The lids' margins turn into the socket by design (tested below).
+    let margin = |k: usize| a.lid_margin_triangles.contains(&k);
     for (e, ts) in &edge {
-        if ts.len() == 2 && (e.0 >= nf || e.1 >= nf) {
+        if ts.len() == 2 && (e.0 >= nf || e.1 >= nf) && !ts.iter().any(|&k| margin(k)) {
             let c = normal(&skin.triangles[ts[0]]).dot(normal(&skin.triangles[ts[1]]));
             assert!(c > 0.0, "fold at {:?}", skin.positions[e.0 as usize]);
         }
@@ -559,4 +566,68 @@ fn default_avatar_jaw_open_opens_a_rounded_mouth_that_mouth_close_closes_as_befo
         changed = changed.max(open[v].as_dvec3().distance(t[jo][v]));
     }
     assert!(changed > 0.004, "jawOpen is the template's: {changed}");
+}
+
+#[test]
+fn the_lids_margins_hide_the_sockets_and_stay_clear_of_the_eyes() {
+    use likeness::geometry::front_visibility::visible_from;
+    let a = avatar();
+    // The skin, the eyeballs and the sockets as one mesh, seen from the
+    // front: how much of the sockets shows through the eyes' openings,
+    // with the margins and without.
+    let mut positions = Vec::new();
+    let mut triangles = Vec::new();
+    let mut sockets = Vec::new();
+    let mut margins = Vec::new();
+    for part in [a.skin, a.eyes[0], a.eyes[1], a.sockets] {
+        let p = &a.avatar.parts[part];
+        let o = positions.len() as u32;
+        for (k, t) in p.triangles.iter().enumerate() {
+            if part == a.sockets {
+                sockets.push(triangles.len());
+            }
+            if part == a.skin && a.lid_margin_triangles.contains(&k) {
+                margins.push(triangles.len());
+            }
+            triangles.push(t.map(|i| i + o));
+        }
+        positions.extend(p.positions.iter().map(|x| x.as_dvec3()));
+    }
+    let shown = |triangles: &[[u32; 3]], sockets: &[usize]| {
+        let seen = visible_from(&positions, triangles, DVec3::Z, 0.0002);
+        sockets.iter().filter(|&&k| seen[k]).count()
+    };
+    let with = shown(&triangles, &sockets);
+    let mut without: Vec<[u32; 3]> = triangles.clone();
+    for &k in margins.iter().rev() {
+        without.remove(k);
+    }
+    let shift = |k: usize| k - margins.iter().filter(|&&m| m < k).count();
+    let sockets_without: Vec<usize> = sockets.iter().map(|&k| shift(k)).collect();
+    let before = shown(&without, &sockets_without);
+    println!("socket triangles seen from the front: {before} without the margins, {with} with");
+    assert!(
+        before > 50,
+        "{before}: the openings show the sockets without the margins"
+    );
+    assert_eq!(with, 0, "the margins hide the sockets");
+    // The margins' vertices stay clear of the eyeballs at rest, at every
+    // blink weight and at every gaze.
+    let skin = &a.avatar.parts[a.skin];
+    for side in 0..2 {
+        let c = a.eye_centres[side].as_dvec3();
+        let blink = part_target(a, a.skin, ["eyeBlinkLeft", "eyeBlinkRight"][side]);
+        for v in a.lid_margin_vertices.clone() {
+            for w in [0.0, 0.25, 0.5, 0.75, 1.0] {
+                let q = (skin.positions[v] + w * blink[v]).as_dvec3();
+                for s in eye_shapes(side) {
+                    let d = eyes::eye_distance(q, c, shape_rotation(side, s));
+                    assert!(
+                        d > 0.0,
+                        "margin vertex {v} in eye {side} at blink {w}, {s:?}: {d}"
+                    );
+                }
+            }
+        }
+    }
 }

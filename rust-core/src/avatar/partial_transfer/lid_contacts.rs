@@ -11,7 +11,10 @@
 //!
 //! - **The openings.** The boundary loops of the avatar's face parts; an
 //!   eye's opening is the loop whose centroid lies nearest the registered
-//!   mask's eye hole (within the hole's width). It is split at its corners,
+//!   mask's eye hole (within the hole's width). Where the lids fold inwards
+//!   from their edges (a margin with thickness runs from the edge to the
+//!   loop), the lids' edges are the vertices nearest the mask's rim
+//!   instead ([`FOLDED_LIDS`]). It is split at its corners,
 //!   the loop vertices farthest apart along the face's left–right axis (the
 //!   registration's rotation of the mask's `x`), into an upper and a lower
 //!   lid (the chain higher along the rotated `y`).
@@ -111,11 +114,90 @@ pub fn eye_openings(
                     ((c - centre).length(), l)
                 })
                 .min_by(|a, b| a.0.total_cmp(&b.0))?;
-            let opening =
-                (best.0 <= width).then(|| split_opening(best.1, positions, right, up))??;
+            if best.0 > width {
+                return None;
+            }
+            let edge = lid_edge(
+                best.1,
+                positions,
+                triangles,
+                &rim_loop(hole, mask_on_avatar),
+                width,
+            );
+            let opening = split_opening(&edge, positions, right, up)?;
             Some((h, opening))
         })
         .collect()
+}
+
+/// The registered mask's eye hole as a closed polyline on the avatar: the
+/// upper lid from corner to corner, then the lower lid back.
+fn rim_loop(hole: &EyeHole, mask_on_avatar: &[DVec3]) -> Vec<DVec3> {
+    let lower = hole.lower.iter().rev();
+    (hole.upper.iter().chain(lower))
+        .filter_map(|&v| mask_on_avatar.get(v as usize).copied())
+        .collect()
+}
+
+/// Share of the hole's half width beyond which an opening's loop is not on
+/// the mask's rim: the lids fold inwards from their edges.
+pub const FOLDED_LIDS: f64 = 0.1;
+
+/// Share of the hole's half width within which a vertex is on the mask's
+/// rim.
+pub const ON_RIM: f64 = 0.01;
+
+/// The lids' edges of an opening whose boundary loop is `lp`: the loop
+/// itself where it lies on the mask's rim `rim` (mean distance at most
+/// [`FOLDED_LIDS`] × `half_width`); else, where the lids fold inwards from
+/// their edges to the loop (a margin with thickness), the face parts'
+/// vertices within [`ON_RIM`] × `half_width` of the rim, in the rim's
+/// order (of their closest points along it).
+fn lid_edge(
+    lp: &[u32],
+    positions: &[DVec3],
+    triangles: &[[u32; 3]],
+    rim: &[DVec3],
+    half_width: f64,
+) -> Vec<u32> {
+    let n = rim.len();
+    if n < 2 {
+        return lp.to_vec();
+    }
+    // A point's distance to the rim and where its closest point lies along
+    // it (arc length from the first rim point).
+    let mut along = vec![0.0; n + 1];
+    for k in 0..n {
+        along[k + 1] = along[k] + rim[k].distance(rim[(k + 1) % n]);
+    }
+    let place = |p: DVec3| {
+        (0..n)
+            .map(|k| {
+                let (c, t) = closest_on_segment(p, rim[k], rim[(k + 1) % n]);
+                (c.distance(p), along[k] + t * (along[k + 1] - along[k]))
+            })
+            .fold((f64::INFINITY, 0.0), |a, b| if b.0 < a.0 { b } else { a })
+    };
+    let mean = lp
+        .iter()
+        .map(|&v| place(positions[v as usize]).0)
+        .sum::<f64>()
+        / lp.len().max(1) as f64;
+    if mean <= FOLDED_LIDS * half_width {
+        return lp.to_vec();
+    }
+    let mut used: Vec<u32> = triangles.iter().flatten().copied().collect();
+    used.sort_unstable();
+    used.dedup();
+    let mut on_rim: Vec<(f64, u32)> = used
+        .into_iter()
+        .filter_map(|v| {
+            let (d, s) = place(positions[v as usize]);
+            (d <= ON_RIM * half_width).then_some((s, v))
+        })
+        .collect();
+    on_rim.sort_by(|a, b| a.0.total_cmp(&b.0));
+    on_rim.into_iter().map(|(_, v)| v).collect()
 }
 
 /// Splits a loop at its corners (extremes along `right`) into an upper and

@@ -27,7 +27,7 @@ use likeness::{
 
 /// Version of the simulation model, recorded in every session it makes; bump
 /// it whenever a change alters what a seed produces.
-pub const SIMULATOR_VERSION: u32 = 2;
+pub const SIMULATOR_VERSION: u32 = 3;
 
 /// Frame rate of ARKit face tracking (Hz).
 pub const FRAME_RATE: f64 = 60.0;

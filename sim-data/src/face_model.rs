@@ -15,7 +15,7 @@
 
 use crate::face_mask::FaceMask;
 use crate::regions::{Region, jaw_weight, kernel, lower_lid_share, region_weight};
-use crate::shape_spec::{Handle, ShapeSpec, Special};
+use crate::shape_spec::{Handle, JawJoint, ShapeSpec, Special};
 use glam::{DMat3, DVec3};
 use likeness::{BLENDSHAPE_COUNT, Blendshape};
 
@@ -61,19 +61,14 @@ pub struct FaceModel {
     pub neutral: Vec<DVec3>,
     /// Linear delta blendshapes `B₁…B₅₂` at weight one (m).
     pub deltas: Vec<SparseField>,
-    /// Temporomandibular hinge (m).
-    pub hinge: DVec3,
+    /// The mandible's joint.
+    pub jaw: JawJoint,
     /// Jaw opening at weight one (rad).
     pub jaw_angle: f64,
     /// How much each vertex follows the mandible.
     pub jaw_weights: Vec<f64>,
     /// Nonlinear behaviour; `None` for a purely linear face.
     pub nonlinear: Option<Nonlinear>,
-}
-
-/// Rotation opening the jaw by `angle` about the x axis through `hinge`.
-fn jaw_rotation(p: DVec3, hinge: DVec3, angle: f64) -> DVec3 {
-    DMat3::from_rotation_x(angle) * (p - hinge) + hinge
 }
 
 fn handle_field(mask: &FaceMask, h: &Handle, scale: DVec3) -> Vec<DVec3> {
@@ -166,13 +161,13 @@ fn blink_field(
 impl FaceModel {
     /// Builds a face from the mask's parametrization, `neutral` positions,
     /// the shapes' specifications, a linear map `scale` applied to every
-    /// handle displacement (the person's proportions), and the hinge.
+    /// handle displacement (the person's proportions), and the jaw joint.
     pub fn build(
         mask: &FaceMask,
         neutral: Vec<DVec3>,
         specs: &[ShapeSpec],
         scale: DMat3,
-        hinge: DVec3,
+        jaw: JawJoint,
     ) -> FaceModel {
         assert_eq!(specs.len(), BLENDSHAPE_COUNT, "one spec per ARKit shape");
         let n = neutral.len();
@@ -182,7 +177,7 @@ impl FaceModel {
             _ => 0.0,
         };
         let jaw_delta: Vec<DVec3> = (0..n)
-            .map(|i| jaw_weights[i] * (jaw_rotation(neutral[i], hinge, jaw_angle) - neutral[i]))
+            .map(|i| jaw_weights[i] * (jaw.open(neutral[i], jaw_angle) - neutral[i]))
             .collect();
         let mut deltas = Vec::with_capacity(BLENDSHAPE_COUNT);
         let mut blink_bulge: [SparseField; 2] = Default::default();
@@ -232,7 +227,7 @@ impl FaceModel {
         FaceModel {
             neutral,
             deltas,
-            hinge,
+            jaw,
             jaw_angle,
             jaw_weights,
             nonlinear: Some(Nonlinear {
@@ -288,7 +283,7 @@ impl FaceModel {
             let angle = self.jaw_angle * jaw;
             for (q, w) in p.iter_mut().zip(&self.jaw_weights) {
                 if *w > 0.0 {
-                    *q += *w * (jaw_rotation(*q, self.hinge, angle) - *q);
+                    *q += *w * (self.jaw.open(*q, angle) - *q);
                 }
             }
         }

@@ -20,7 +20,7 @@
 //! meaningful together with jawOpen).
 
 use crate::regions::Region;
-use glam::DVec3;
+use glam::{DMat3, DVec3};
 use likeness::{BLENDSHAPE_COUNT, Blendshape};
 
 /// One smooth local displacement.
@@ -88,13 +88,59 @@ pub struct ShapeSpec {
     pub special: Special,
 }
 
-/// Temporomandibular hinge of the generic face (m): in front of the ear, at
-/// the height of the nose base and 3.5 cm behind the rim of the mask, so the
-/// chin (about 11 cm away) travels 4 cm when the jaw opens 20°.
-pub const HINGE: DVec3 = DVec3::new(0.0, 0.005, -0.035);
+/// The mandible's joint: opening by `angle` turns the mandible about the x
+/// axis through `hinge` while the condyles glide forward and down the
+/// articular eminence by `glide` per radian, so a point `p` goes to
+/// `R_x(angle) (p − hinge) + hinge + angle · glide` (rotation with
+/// condylar translation, as the jaw opens: Posselt 1952; Ferrario et al.
+/// 1996).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct JawJoint {
+    /// Centre of the condyles' rotation at rest (m).
+    pub hinge: DVec3,
+    /// Condylar translation per radian of opening (m/rad).
+    pub glide: DVec3,
+}
 
-/// Generic jaw opening at weight one (rad): 0.36 rad ≈ 20.6°, about 4 cm of
-/// chin travel; adult maximal opening is 40–60 mm between the incisors.
+impl JawJoint {
+    /// Where the mandible takes `p` when the jaw opens by `angle` (rad).
+    pub fn open(&self, p: DVec3, angle: f64) -> DVec3 {
+        DMat3::from_rotation_x(angle) * (p - self.hinge) + self.hinge + angle * self.glide
+    }
+}
+
+/// Temporomandibular hinge of the generic face (m): the condyles' centre,
+/// placed from the lower incisors' tip (0, −52, 23.5) mm by Bonwill's
+/// triangle (about 10 cm from the incisors to each condyle, the condyles
+/// 10 cm apart, so 87 mm in the midsagittal plane) tilted by Balkwill's
+/// angle (26° to the occlusal plane, itself about 10° to the Frankfort
+/// horizontal): 47 mm above and 74 mm behind the incisors. The chin front
+/// (pogonion) is then about 100 mm from it.
+pub const HINGE: DVec3 = DVec3::new(0.0, -0.005, -0.050);
+
+/// How far the condyles glide per radian of opening (m/rad): down the
+/// articular eminence at 35° below the horizontal (its mean inclination
+/// to the Frankfort plane is 30–40°), 8 mm over the generic opening of
+/// [`JAW_OPEN_ANGLE`]. Condylar translation is 15–20 mm at a maximal
+/// opening of 45–50 mm between the incisors, about linear in the opening
+/// (Ferrario et al. 1996; Travers et al. 2000); the generic opening is
+/// about 31 mm.
+pub const GLIDE: DVec3 = DVec3::new(
+    0.0,
+    -0.008 * 0.573_576 / JAW_OPEN_ANGLE,
+    0.008 * 0.819_152 / JAW_OPEN_ANGLE,
+);
+
+/// The generic face's jaw joint.
+pub const GENERIC_JAW: JawJoint = JawJoint {
+    hinge: HINGE,
+    glide: GLIDE,
+};
+
+/// Generic jaw opening at weight one (rad): 0.36 rad ≈ 20.6°. With the
+/// glide the lower incisors part by about 31 mm and the chin front moves
+/// about 35 mm, down and back alike; adult maximal opening is 40–60 mm
+/// between the incisors.
 pub const JAW_OPEN_ANGLE: f64 = 0.36;
 
 fn handle(region: Region, centre_mm: [f64; 2], radius_mm: [f64; 2], d_mm: [f64; 3]) -> Handle {

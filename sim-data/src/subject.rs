@@ -19,7 +19,7 @@
 use crate::face_mask::face_mask;
 use crate::face_model::FaceModel;
 use crate::regions::{Region, kernel};
-use crate::shape_spec::{HINGE, Handle, ShapeSpec, Special, generic_specs};
+use crate::shape_spec::{GLIDE, HINGE, Handle, JawJoint, ShapeSpec, Special, generic_specs};
 use glam::{DMat3, DQuat, DVec3};
 use likeness::{BLENDSHAPE_COUNT, Blendshape};
 use rand::{Rng, SeedableRng};
@@ -177,8 +177,11 @@ impl Subject {
                 scale * (p.as_dvec3() + bump)
             })
             .collect();
-        let hinge =
-            scale * (HINGE + DVec3::new(0.0, normal(&mut rng, 0.004), normal(&mut rng, 0.004)));
+        let jaw = JawJoint {
+            hinge: scale
+                * (HINGE + DVec3::new(0.0, normal(&mut rng, 0.004), normal(&mut rng, 0.004))),
+            glide: scale * GLIDE,
+        };
         let generic = generic_specs();
         let mut gains = [0.0; BLENDSHAPE_COUNT];
         for shape in Blendshape::ALL {
@@ -196,7 +199,7 @@ impl Subject {
             .iter()
             .map(|s| style_shape(&mut rng, &generic[s.index()], gains[s.index()]))
             .collect();
-        let mut model = FaceModel::build(mask, neutral, &specs, scale, hinge);
+        let mut model = FaceModel::build(mask, neutral, &specs, scale, jaw);
         for (side, sign) in [(0, 1.0), (1, -1.0)] {
             let corrective = Handle {
                 centre: [sign * 0.025, -0.047],

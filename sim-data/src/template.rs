@@ -8,7 +8,7 @@
 
 use crate::face_mask::face_mask;
 use crate::face_model::FaceModel;
-use crate::shape_spec::{HINGE, Special, generic_specs};
+use crate::shape_spec::{GENERIC_JAW, Special, generic_specs};
 use glam::{DMat3, DVec3, Vec3};
 use likeness::{Blendshape, Template};
 
@@ -51,7 +51,7 @@ impl TemplateVariant {
                 *gap = self.blink_gap();
             }
         }
-        let mut model = FaceModel::build(mask, neutral, &specs, DMat3::IDENTITY, HINGE);
+        let mut model = FaceModel::build(mask, neutral, &specs, DMat3::IDENTITY, GENERIC_JAW);
         model.nonlinear = None;
         model
     }

@@ -5,7 +5,8 @@
 //! lid or a tooth shows where it must not, and whether the blinks close.
 
 use crate::avatar_quality::figures;
-use crate::seam::seam_statistics;
+use crate::bend::{Bend, largest_bend};
+use crate::seam::{outline_vertices, seam_statistics};
 use glam::{DVec3, Vec3};
 use likeness::avatar::Avatar;
 use likeness::avatar::own_shapes::{face_part_triangles, skin_points};
@@ -40,6 +41,11 @@ pub struct FaceChecks {
     /// Vertices of the teeth in front of the lips at rest
     /// ([`teeth_in_front`]).
     pub teeth_in_front: usize,
+    /// The sharpest bend the person's jawOpen makes at a skin edge with an
+    /// end beyond the face region's outline (not its eye or mouth holes),
+    /// in the lower half of the head: under the chin, down the neck, over
+    /// the jaw's angle.
+    pub neck_bend: Option<Bend>,
 }
 
 /// Measures `made` (the person's avatar on `stock`, which must have taken
@@ -111,6 +117,33 @@ pub fn face_checks(
     let implanted = made.implanted.as_ref().expect("personalized shapes");
     let f = figures(avatar, found, implanted);
     let teeth_in_front = teeth_in_front(&rest, found, mask, teeth);
+    let rest32: Vec<Vec3> = avatar.positions();
+    let offsets = avatar.vertex_offsets();
+    let mut by_outline = vec![false; rest.len()];
+    for &part in &found.face_parts {
+        let near = outline_vertices(found, mask, avatar, part);
+        by_outline[offsets[part]..offsets[part + 1]].copy_from_slice(&near);
+    }
+    // The lower half of the head (the avatar is +y up): below the middle
+    // of the face region's height.
+    let (low, high) = found
+        .map
+        .face
+        .iter()
+        .fold((f32::MAX, f32::MIN), |(l, h), f| {
+            let y = rest32[f.vertex as usize].y;
+            (l.min(y), h.max(y))
+        });
+    let lower = |v: usize| rest32[v].y < 0.5 * (low + high);
+    let neck_bend = largest_bend(
+        &rest32,
+        &triangles,
+        &implanted.shapes[Blendshape::JawOpen.index()],
+        |a, b| {
+            let (a, b) = (a as usize, b as usize);
+            !(face[a] && face[b]) && by_outline[a] && by_outline[b] && lower(a) && lower(b)
+        },
+    );
     FaceChecks {
         fit_max_mm,
         border_strain: bands[0].0,
@@ -120,6 +153,7 @@ pub fn face_checks(
         deepest_lid_mm: f.deepest_lid_mm,
         blinks: f.blinks.iter().map(|(b, _, got)| (*b, *got)).collect(),
         teeth_in_front,
+        neck_bend,
     }
 }
 

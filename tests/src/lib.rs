@@ -5,6 +5,7 @@
 //! `tests/README.md` for which kind of test lives where.
 
 pub mod avatar_quality;
+pub mod bend;
 pub mod committed;
 pub mod face_checks;
 pub mod live_link;

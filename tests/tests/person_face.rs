@@ -7,12 +7,21 @@
 //! of the lips, the round trip, and two people who look different.
 
 use glam::DVec3;
+use likeness::Blendshape;
 use likeness::avatar::glb::read::{GlbAvatar, read_avatar_bytes};
 use likeness::avatar::personal_avatar::{PersonalAvatar, RestFace};
 use likeness::personalize::{Method, personalize};
 use likeness_tests::avatar_quality::round_trip;
+use likeness_tests::bend::largest_bend;
 use likeness_tests::committed::{personal_avatar_with, round_trip_with};
 use likeness_tests::face_checks::{face_checks, self_intersections, teeth_and_gums};
+
+/// The sharpest bend jawOpen may make at a skin edge beyond the face
+/// (degrees). Model 2 of the simulator, whose chin swung straight back
+/// into a neck rising right under it, made 38° there: a crease across the
+/// throat in every render. ICT-FaceKit's own jawOpen bends its neck by
+/// 8° at most.
+const NECK_BEND_DEGREES: f64 = 25.0;
 
 fn default_glb() -> GlbAvatar {
     let bytes = likeness_sim::default_avatar::default_avatar_glb().expect("builds");
@@ -73,7 +82,39 @@ fn the_persons_face_passes_every_check_on_the_default_avatar() {
             "subject {seed}: {c:?}"
         );
         assert_eq!(c.teeth_in_front, 0, "subject {seed}: {c:?}");
+        let neck = c.neck_bend.expect("edges beyond the face");
+        assert!(
+            neck.degrees <= NECK_BEND_DEGREES,
+            "subject {seed}: jawOpen bends the neck {neck:?}"
+        );
     }
+}
+
+/// A clean neck: the default avatar's own jawOpen bends no skin edge with
+/// an end beyond the face's outline by more than [`NECK_BEND_DEGREES`]
+/// (the person's, in the test above, neither).
+#[test]
+fn the_default_avatars_jaw_opens_without_creasing_the_neck() {
+    let built = likeness_sim::default_avatar::default_avatar();
+    let skin = &built.avatar.parts[built.skin];
+    // Beyond the face's outline: the head's vertices, not the lids'
+    // margins (skin past the eye holes).
+    let face = built.true_correspondence.len();
+    let margins = &built.lid_margin_vertices;
+    let head = |v: u32| v as usize >= face && !margins.contains(&(v as usize));
+    let bend = largest_bend(
+        &skin.positions,
+        &skin.triangles,
+        &skin.targets[Blendshape::JawOpen.index()],
+        |a, b| {
+            (head(a) || head(b))
+                && !margins.contains(&(a as usize))
+                && !margins.contains(&(b as usize))
+        },
+    )
+    .expect("edges beyond the face");
+    eprintln!("default avatar, jawOpen: sharpest bend beyond the face {bend:?}");
+    assert!(bend.degrees <= NECK_BEND_DEGREES, "{bend:?}");
 }
 
 /// Simulated subject 10 keeps its lips closed at rest, the two copies of

@@ -6,13 +6,14 @@
 //! of a split one, 0 elsewhere) instead of towards zero:
 //!
 //! ```text
-//! E_j(w̃) = ‖Σ_i w̃_i B̃_i − M B_j‖² + μ ‖w̃ − e_j‖²,
-//! (GᵀG + μI) w̃_j = Gᵀ M B_j + μ e_j,
+//! E_j(w̃) = ‖Σ_i w̃_i B̃_i − M B_j‖² + Σ_i (μ + U_i) (w̃_i − e_ji)²,
+//! (GᵀG + μI + U) w̃_j = Gᵀ M B_j + (μI + U) e_j,
 //! ```
 //!
 //! with `G` (3F × k) the displacements of the avatar's `k` blendshapes (its
 //! morph targets grouped by name across meshes, [`avatar_blendshapes`]) at
-//! the `F` face vertices. All 52 right-hand sides share one `k × k`
+//! the `F` face vertices and `U` the diagonal of the `U_i` (below). All 52
+//! right-hand sides share one `k × k`
 //! Cholesky factorization. `M B_j` is the mask's displacement carried into
 //! the avatar's frame by the registration's similarity (`s R δ`, then `M`).
 //!
@@ -34,6 +35,20 @@
 //! eyeballs or the tongue along. Pulling towards `e_j` keeps what the face
 //! cannot tell as the avatar's artist made it, and lets the face data
 //! decide the rest.
+//!
+//! **What the face cannot see.** A target that moves skin beyond the face
+//! region moves it there in every `A_j` that uses it, and nothing checks
+//! that motion against the person. So a departure from `e_j` also costs
+//! what it moves there, `U_i = Σ_{v unseen} ‖B̃_i[v]‖²` (in the same units
+//! as the fit's terms): the ridge on weight `i` is `μ + U_i`. Without it,
+//! a person's jawOpen on ICT-FaceKit was fitted with mouthFunnel at −0.8,
+//! mouthLowerDown at −0.8 and jawLeft and jawRight at +0.6 each, and the
+//! insides of the lips, which the mask does not cover, moved 5–10 mm
+//! towards each other. The lids round the eyeballs (skin within
+//! [`LIDS_REACH`] eyeball radii of an eyeball's centre) do not count:
+//! their contacts and the eyelid repair look after them, and pinning their
+//! targets put a lid of the default avatar 0.09 mm into the eyeball when
+//! the person squinted looking up.
 //!
 //! **μ.** `μ = μ₀ · tr(GᵀG) / k` with the dimensionless [`RELATIVE_RIDGE`]
 //! μ₀: both terms of `E_j` are then in the same units (the avatar's
@@ -61,6 +76,11 @@ use serde::{Deserialize, Serialize};
 /// μ₀, the ridge weight relative to the mean energy `tr(GᵀG) / k` of the
 /// avatar's blendshapes on the face (module docs).
 pub const RELATIVE_RIDGE: f64 = 1e-3;
+
+/// Skin within this many eyeball radii of an eyeball's centre is the lids'
+/// (module docs): the 24 mm eyeball's radius is 12 mm, and the lids reach
+/// 6 mm beyond it.
+pub const LIDS_REACH: f64 = 1.5;
 
 /// Displacements shorter than this share of the avatar's bounding-box
 /// diagonal are written as zero (a micrometre on a metre-sized avatar).
@@ -311,6 +331,53 @@ pub fn retarget(
         }
     }
     let mut gt_b = g.transpose() * &rhs;
+    // What each target moves where the face cannot see it: a departure
+    // from the prior costs that much more (module docs).
+    // Unseen: the face's parts beyond the face region, but the lids round
+    // the eyeballs (module docs).
+    let offsets = avatar.vertex_offsets();
+    let mut seen = vec![true; positions.len()];
+    for &i in &registration.face_parts {
+        if i + 1 < offsets.len() {
+            seen[offsets[i]..offsets[i + 1]].fill(false);
+        }
+    }
+    for f in face {
+        if let Some(x) = seen.get_mut(f.vertex as usize) {
+            *x = true;
+        }
+    }
+    for eyeball in &registration.eyeballs {
+        let points: Vec<DVec3> = eyeball
+            .iter()
+            .filter_map(|&v| positions.get(v as usize).copied())
+            .collect();
+        let centre = points.iter().sum::<DVec3>() / points.len().max(1) as f64;
+        let radius = points
+            .iter()
+            .map(|p| p.distance(centre))
+            .fold(0.0, f64::max);
+        for (p, x) in positions.iter().zip(seen.iter_mut()) {
+            if p.distance(centre) <= LIDS_REACH * radius {
+                *x = true;
+            }
+        }
+    }
+    let unseen: Vec<f64> = targets
+        .iter()
+        .map(|t| {
+            avatar
+                .summed_displacement(&t.targets)
+                .iter()
+                .zip(&seen)
+                .filter(|(_, f)| !**f)
+                .map(|(d, _)| d.as_dvec3().length_squared())
+                .sum()
+        })
+        .collect();
+    for (i, u) in unseen.iter().enumerate() {
+        system[(i, i)] += u;
+    }
     // The prior: each ARKit shape is the avatar's own target of that name
     // (both halves of a split one).
     for (i, blendshape) in targets.iter().enumerate() {
@@ -318,7 +385,7 @@ pub fn retarget(
             TargetName::Arkit(shape) | TargetName::Half(shape, _) => shape,
             TargetName::Other => continue,
         };
-        gt_b[(i, shape.index())] += mu;
+        gt_b[(i, shape.index())] += mu + unseen[i];
     }
     let llt = system
         .llt(faer::Side::Lower)

@@ -16,10 +16,16 @@
 //! Jacobian stays positive: the steepest fade changes a length by at most
 //! 64%). Targets move with it (`d' = W(p + d) − W(p)`); the eyeballs move
 //! rigidly with their centre (`W(c) − c`) and keep their gaze rotations.
+//! The teeth and gums are warped at rest, and each target keeps moving
+//! them as one body by the mandible's motion `M` (a rigid motion, fitted
+//! to the default's target): `d' = M(W(p)) − W(p)`, as an artist
+//! narrowing the mouth keeps the jaw's hinge (warping their motion too
+//! would bend the lower arch as it leaves the mouth's band).
 
 use super::parts::{base, bounds, glb_of, plain_truth};
 use super::truth::VariantTruth;
 use glam::{DVec3, Vec3};
+use likeness::avatar::registration::similarity::fit_rigid;
 
 /// Face width factor (x).
 pub const FACE_WIDTH: f64 = 1.12;
@@ -76,6 +82,30 @@ pub fn other_proportions() -> (Vec<u8>, VariantTruth) {
             let c = b.eye_centres[side].as_dvec3();
             let shift = (warp(c) - c).as_vec3();
             part.positions.iter_mut().for_each(|p| *p += shift);
+            continue;
+        }
+        if b.teeth.contains(&k) || b.gums.contains(&k) {
+            let rest: Vec<DVec3> = part.positions.iter().map(|p| p.as_dvec3()).collect();
+            let warped: Vec<DVec3> = rest.iter().map(|p| warp(*p)).collect();
+            for t in part
+                .targets
+                .iter_mut()
+                .filter(|t| t.iter().any(|d| *d != Vec3::ZERO))
+            {
+                let moved: Vec<DVec3> = rest
+                    .iter()
+                    .zip(t.iter())
+                    .map(|(p, d)| *p + d.as_dvec3())
+                    .collect();
+                let m = fit_rigid(&rest, &moved, &vec![1.0; rest.len()])
+                    .expect("a jaw part has vertices apart");
+                for (d, p) in t.iter_mut().zip(&warped) {
+                    *d = (m.apply(*p) - *p).as_vec3();
+                }
+            }
+            for (p, w) in part.positions.iter_mut().zip(&warped) {
+                *p = w.as_vec3();
+            }
             continue;
         }
         for t in &mut part.targets {

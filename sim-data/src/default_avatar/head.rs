@@ -20,12 +20,13 @@
 //!
 //! Vertices are laid out on rings about the vertical axis through `C`, from
 //! the crown down to the horizontal cut at [`BOTTOM_Y`], [`HEAD_SPACING`]
-//! apart on the surface, and triangulated by a constrained Delaunay
-//! triangulation of their stereographic projection from straight below
-//! (`(dₓ, d_z)/(1 + d_y)`, conformal, so triangles keep their shape), with
-//! the face's outline as a hole and the bottom ring as the outer boundary.
+//! apart in arc length down every meridian and along each ring, and
+//! triangulated by a constrained Delaunay triangulation in a plane where
+//! triangles keep their shape on the skin ([`super::meridians`]), with the
+//! face's outline as a hole and the bottom ring as the outer boundary.
 
 use super::face::{inside, triangulate};
+use super::meridians::{AZIMUTHS, Meridians};
 use glam::DVec3;
 use std::f64::consts::{PI, TAU};
 
@@ -135,14 +136,10 @@ pub fn direction(gamma: f64, psi: f64) -> DVec3 {
     )
 }
 
-/// Stereographic projection of a direction from straight below.
-pub fn stereo(d: DVec3) -> [f64; 2] {
-    [d.x / (1.0 + d.y), d.z / (1.0 + d.y)]
-}
-
 /// The outline the head must meet: rim points and their directions.
 struct Rim {
     points: Vec<DVec3>,
+    params: Vec<(f64, f64)>,
     dirs: Vec<DVec3>,
     mismatch: Vec<f64>,
 }
@@ -168,6 +165,7 @@ impl Rim {
             .collect();
         Rim {
             points: points.to_vec(),
+            params,
             dirs,
             mismatch,
         }
@@ -202,11 +200,10 @@ pub struct HeadRegion {
     pub bottom: Vec<u32>,
 }
 
-/// Stereographic positions of the rim points, those between corners
-/// interpolated linearly (by 3D arc length) between the corners'.
-fn collinear_plane(dirs: &[DVec3], anchor: &[bool]) -> Vec<[f64; 2]> {
-    let n = dirs.len();
-    let mut plane: Vec<[f64; 2]> = dirs.iter().map(|d| stereo(*d)).collect();
+/// The rim points' plane positions `plane`, those between corners
+/// interpolated linearly (by index) between the corners'.
+fn collinear_plane(mut plane: Vec<[f64; 2]>, anchor: &[bool]) -> Vec<[f64; 2]> {
+    let n = plane.len();
     let corners: Vec<usize> = (0..n).filter(|&k| anchor[k]).collect();
     for (c, &a) in corners.iter().enumerate() {
         let b = corners[(c + 1) % corners.len()];
@@ -253,51 +250,38 @@ pub fn head_region(rim_points: &[DVec3], anchor: &[bool]) -> HeadRegion {
 pub fn head_region_with(rim_points: &[DVec3], anchor: &[bool], spacing: f64) -> HeadRegion {
     let rim = Rim::new(rim_points);
     let h = spacing;
-    let n_az = 180;
-    let gmax: Vec<f64> = (0..n_az)
-        .map(|k| bottom_angle(TAU * k as f64 / n_az as f64))
+    let gmax: Vec<f64> = (0..AZIMUTHS)
+        .map(|k| bottom_angle(TAU * k as f64 / AZIMUTHS as f64))
         .collect();
     let gmax_at = |psi: f64| {
-        let s = psi.rem_euclid(TAU) / TAU * n_az as f64;
-        let (k, f) = (s.floor() as usize % n_az, s.fract());
-        gmax[k] * (1.0 - f) + gmax[(k + 1) % n_az] * f
+        let s = psi.rem_euclid(TAU) / TAU * AZIMUTHS as f64;
+        let (k, f) = (s.floor() as usize % AZIMUTHS, s.fract());
+        gmax[k] * (1.0 - f) + gmax[(k + 1) % AZIMUTHS] * f
     };
-    let point = |tau: f64, psi: f64| rim.surface(tau * gmax_at(psi), psi);
-    // Meridian length, averaged over four azimuths, sets the ring count.
-    let steps = 200;
-    let length: f64 = (0..4)
-        .map(|q| {
-            let psi = q as f64 * PI / 2.0;
-            (0..steps)
-                .map(|s| {
-                    point(s as f64 / steps as f64, psi)
-                        .distance(point((s + 1) as f64 / steps as f64, psi))
-                })
-                .sum::<f64>()
-        })
-        .sum::<f64>()
-        / 4.0;
-    let rings = (length / h).round() as usize;
-    let rim_plane = collinear_plane(&rim.dirs, anchor);
+    let surface = |tau: f64, psi: f64| rim.surface(tau * gmax_at(psi), psi);
+    let meridians = Meridians::new(&surface);
+    let rings = (meridians.length / h).round() as usize;
+    let rim_plane = collinear_plane(
+        rim.params
+            .iter()
+            .map(|(g, psi)| meridians.plane(meridians.sigma(g / gmax_at(*psi), *psi), *psi))
+            .collect(),
+        anchor,
+    );
     let mut plane = rim_plane.clone();
     let mut positions = Vec::new();
     let mut bottom = Vec::new();
     for k in 0..=rings {
-        let tau = k as f64 / rings as f64;
-        let circumference: f64 = (0..72)
-            .map(|s| {
-                point(tau, TAU * s as f64 / 72.0).distance(point(tau, TAU * (s + 1) as f64 / 72.0))
-            })
-            .sum();
+        let sigma = k as f64 / rings as f64;
         let n = if k == 0 {
             1
         } else {
-            ((circumference / h).round() as usize).max(6)
+            ((meridians.circumference(&surface, sigma) / h).round() as usize).max(6)
         };
         for j in 0..n {
             let psi = TAU * (j as f64 + 0.5 * (k % 2) as f64) / n as f64;
-            let p = point(tau, psi);
-            let s = stereo(direction(tau * gmax_at(psi), psi));
+            let p = surface(meridians.tau(sigma, psi), psi);
+            let s = meridians.plane(sigma, psi);
             let near_rim = rim.points.iter().any(|r| r.distance(p) < 0.7 * h);
             if k < rings && (near_rim || inside(&rim_plane, s)) {
                 continue;

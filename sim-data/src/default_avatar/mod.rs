@@ -15,7 +15,8 @@
 //! | lips | [`lips`] | the red of the lips in the mask's parameter plane, a material of its own ending on edges along the vermilion border |
 //! | materials | [`looks`], [`part_looks`], [`MATERIALS`], [`PART_MATERIALS`] | a plain PBR material per kind of part: skin, lips, sockets, mouth lining, sclera, iris, pupil, teeth, gums, tongue |
 //! | skin and its shapes at any spacing | [`skin`] | face region and head joined at the outline, the template continued past it (the low-poly test avatar resamples it coarser) |
-//! | head, neck, shoulders | [`head`] | star-shaped implicit surface about `head::CENTRE`, rings 4.5 mm apart, joined to the face's outline |
+//! | head, neck, shoulders | [`head`] | star-shaped implicit surface about `head::CENTRE`, joined to the face's outline |
+//! | the head's vertices and triangles | [`meridians`] | rings 5.5 mm apart in arc length down every meridian, triangulated in a nearly conformal plane |
 //! | ears | [`ears`] | pressed ellipsoid shells, roots sunk into the head |
 //! | lids' thickness | [`lid_margin`] | a band from each eye hole's rim back to the eyeball, clear of it at every gaze and blink weight; the eyes 0.8 mm further back to make room |
 //! | eyeballs, sockets | [`eyes`] | 24 mm globe with an 11.5 mm cornea bulging 2.5 mm, placed as far forward as the lids allow; an iris and a pupil painted on the cornea (their own parts); a 29 mm bowl behind each |
@@ -35,6 +36,7 @@ pub mod lid_margin;
 pub mod lips;
 #[cfg(test)]
 mod look_tests;
+pub mod meridians;
 pub mod mouth;
 pub mod mouth_opening;
 pub mod nostrils;

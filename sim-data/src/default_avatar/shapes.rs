@@ -14,10 +14,11 @@
 //! - **Jaw.** jawOpen, jawForward, jawLeft, jawRight move the mandible: the
 //!   lower teeth, lower gums and tongue fully, the skin beyond the outline
 //!   by the continued jaw weight `ω` (the template's `jaw_weight` at the
-//!   outline, continued as above with reach [`JAW_REACH`], so the skin under
-//!   the chin and down the neck follows): `δ = ω (M p − p)`, `M` the
-//!   rotation by `JAW_OPEN_ANGLE` about the hinge's x axis or the jaw
-//!   translation of the template.
+//!   outline, continued as above with reach [`JAW_STRETCH`] times the
+//!   outline's jaw motion, at least [`JAW_REACH`], so the skin under the
+//!   chin and down the neck follows): `δ = ω (M p − p)`, `M` the generic
+//!   jaw joint opened by `JAW_OPEN_ANGLE` (`shape_spec::JawJoint`) or the
+//!   jaw translation of the template.
 //! - **Eyes.** eyeLook* rotate the eyeball on their side rigidly about its
 //!   centre (see [`super::eyes`]).
 //! - **Tongue.** tongueOut slides the tongue forward [`TONGUE_OUT`] and up
@@ -27,15 +28,26 @@
 
 use super::face::MaskPoint;
 use crate::regions::{kernel, smoothstep};
-use crate::shape_spec::{HINGE, JAW_OPEN_ANGLE, Special, generic_specs};
+use crate::shape_spec::{GENERIC_JAW, JAW_OPEN_ANGLE, Special, generic_specs};
 use glam::{DMat3, DVec3};
 use likeness::{Blendshape, Template};
 
 /// How far beyond the outline the face's shapes carry on (m).
 pub const REACH: f64 = 0.025;
-/// How far beyond the outline the mandible's pull carries on (m): down the
-/// neck to about the larynx.
+/// How far beyond the outline the mandible's pull carries on at least (m):
+/// down the neck to about the larynx.
 pub const JAW_REACH: f64 = 0.06;
+/// How many times as far as an outline vertex moves with the mandible its
+/// pull carries on, where that is beyond [`JAW_REACH`]. The fall-off
+/// `κ(d/R)` tilts the skin by up to `atan(1.72 |δ|/R)` (1.72 is κ's
+/// steepest slope): twice keeps that under 41°, and the sharpest bend of
+/// any edge beyond the face in jawOpen is 18° (with 60 mm alone, 24° under
+/// the chin). Three times (under 30°) carried the chin's motion so far
+/// down the neck that skin 2–3 cm under the chin moved as much as the
+/// chin, unlike ICT-FaceKit's neck (5 mm, 12 mm under its chin), and the
+/// registration's jawOpen feature (what moves at least 80% of the most)
+/// slid into the neck.
+pub const JAW_STRETCH: f64 = 2.0;
 /// Outline vertices averaged per head vertex.
 pub const NEIGHBOURS: usize = 8;
 /// Width of the averaging weights (m).
@@ -105,9 +117,9 @@ pub fn continuation(p: DVec3, rim: &[DVec3]) -> Continuation {
 pub fn jaw_motion(shape: Blendshape) -> Option<Box<dyn Fn(DVec3) -> DVec3>> {
     let spec = &generic_specs()[shape.index()];
     match spec.special {
-        Special::JawRotation { .. } => Some(Box::new(|p: DVec3| {
-            DMat3::from_rotation_x(JAW_OPEN_ANGLE) * (p - HINGE) + HINGE - p
-        })),
+        Special::JawRotation { .. } => {
+            Some(Box::new(|p: DVec3| GENERIC_JAW.open(p, JAW_OPEN_ANGLE) - p))
+        }
         Special::JawTranslation { offset } => Some(Box::new(move |_| offset)),
         _ => None,
     }
@@ -133,7 +145,15 @@ pub fn head_targets(
                 .map(|(p, c)| match &motion {
                     Some(m) => {
                         let w: f64 = c.weights.iter().map(|(k, w)| w * rim_jaw[*k]).sum();
-                        kernel(c.distance / JAW_REACH) * w * m(*p)
+                        let reach: f64 = c
+                            .weights
+                            .iter()
+                            .map(|(k, w)| {
+                                let moved = rim_jaw[*k] * m(rim[*k]).length();
+                                w * (JAW_STRETCH * moved).max(JAW_REACH)
+                            })
+                            .sum();
+                        kernel(c.distance / reach) * w * m(*p)
                     }
                     None if c.distance < REACH => {
                         let d: DVec3 = c

@@ -33,6 +33,8 @@ use super::correspondence::{CorrespondenceMap, correspondence_map};
 use super::eyeballs::find_eyeballs;
 use super::features::{HELD, REQUIRED, feature_weights, rig_features};
 use super::lip_sides::LipSides;
+use super::lips_parting::{STILL, WITH_JAW, lips_parting};
+use super::mask_holes::{boundary_edges, mouth_rim};
 use super::nonrigid::{Landmark, MIN_NORMAL_DOT, SEARCH_RADIUS, register_nonrigid, vertex_normals};
 use super::rigid_icp::icp_with_scale;
 use super::similarity::{Similarity, fit_similarity};
@@ -84,6 +86,12 @@ pub const HELD_SLACK_MM: f64 = 2.0;
 /// mask's scale): two discretizations of one rig already place them up to
 /// 3.5 mm apart (the jaw's, on the low-poly variant of our own avatar).
 pub const FEATURE_SLACK_MM: f64 = 4.0;
+
+/// How far from the placed mask's slit the avatar's lips may part for a
+/// slit vertex to be held on the parting (mm at the mask's scale): the
+/// rigid fit leaves the slit within a few millimetres of the lips'
+/// parting (5 mm on ICT-FaceKit), and the lips are about 10 mm high.
+pub const PARTING_REACH_MM: f64 = 8.0;
 
 /// Pixel side of the depth buffer that decides which skin the mask may
 /// lie on (mm, mask scale): finer than the few millimetres between lips
@@ -297,7 +305,7 @@ pub fn find_face(
         .iter()
         .map(|p| icp.similarity.apply(*p))
         .collect();
-    let landmarks: Vec<Landmark> = matched
+    let mut landmarks: Vec<Landmark> = matched
         .iter()
         .filter_map(|(b, _, target)| {
             Some(Landmark {
@@ -311,6 +319,15 @@ pub fn find_face(
             })
         })
         .collect();
+    let mask_jaw = rig.delta(Blendshape::JawOpen);
+    landmarks.extend(slit_landmarks(
+        avatar,
+        &positions,
+        &skin_triangles,
+        (mask.triangles(), mask_jaw),
+        &placed,
+        mm,
+    ));
     let registered = register_nonrigid(&placed, mask.triangles(), &skin, &landmarks)
         .ok_or(RegistrationError::Unsolvable)?;
     let to_mm = 1000.0 / icp.similarity.scale;
@@ -390,6 +407,83 @@ pub fn find_face(
         face_parts,
         seconds: started.elapsed().as_secs_f64(),
     })
+}
+
+/// The mask's slit held where the avatar's lips part
+/// ([`super::lips_parting`]), through the whole fit. A slit vertex that
+/// the template's `jawOpen` moves with the jaw (at least
+/// [`super::lips_parting::WITH_JAW`] of the most it moves any slit vertex)
+/// is on the lower lip, one it leaves (at most
+/// [`super::lips_parting::STILL`]) on the upper; the corners are neither.
+/// Each lip's slit vertices are pulled by one common offset: the mean, over
+/// them, of the way from each to the nearest edge vertex of the avatar's
+/// same lip (within [`PARTING_REACH_MM`]). A mean cancels the along-the-lip
+/// part of the ways, which only says how the two meshes sample the lip,
+/// and keeps the part across it: how far the slit lies from the parting.
+/// Offsets within [`HELD_SLACK_MM`] pull nothing (two meshes of one face
+/// place the lips' edges a millimetre or so apart: with half a millimetre
+/// of slack, the other-proportions variant's blink round trip left 0.5% of
+/// its eyeball seen, with 2 mm as before). None without a `jawOpen` or a
+/// parting.
+fn slit_landmarks(
+    avatar: &Avatar,
+    positions: &[DVec3],
+    skin_triangles: &[[u32; 3]],
+    mask: (&[[u32; 3]], &[DVec3]),
+    placed: &[DVec3],
+    mm: f64,
+) -> Vec<Landmark> {
+    let (mask_triangles, mask_jaw) = mask;
+    let Some(jaw) = arkit_displacement(avatar, Blendshape::JawOpen) else {
+        return Vec::new();
+    };
+    let slit: Vec<u32> = mouth_rim(placed, &boundary_edges(mask_triangles))
+        .into_iter()
+        .collect();
+    let middle = slit.iter().map(|&v| placed[v as usize]).sum::<DVec3>() / slit.len().max(1) as f64;
+    let half_width = slit
+        .iter()
+        .map(|&v| placed[v as usize].distance(middle))
+        .fold(0.0, f64::max);
+    let pairs = lips_parting(positions, skin_triangles, &jaw, middle, half_width, mm);
+    let motion = |v: u32| mask_jaw.get(v as usize).map_or(0.0, |d| d.length());
+    let largest = slit.iter().map(|&v| motion(v)).fold(0.0, f64::max);
+    let mut landmarks = Vec::new();
+    for lower in [true, false] {
+        let edge: Vec<DVec3> = pairs
+            .iter()
+            .map(|(moving, still)| if lower { *moving } else { *still })
+            .collect();
+        let on_lip: Vec<u32> = slit
+            .iter()
+            .copied()
+            .filter(|&v| match lower {
+                true => motion(v) >= WITH_JAW * largest,
+                false => motion(v) <= STILL * largest,
+            })
+            .collect();
+        let ways: Vec<DVec3> = on_lip
+            .iter()
+            .filter_map(|&v| {
+                let p = placed[v as usize];
+                let q = edge
+                    .iter()
+                    .min_by(|a, b| a.distance_squared(p).total_cmp(&b.distance_squared(p)))?;
+                (q.distance(p) <= PARTING_REACH_MM * mm).then_some(*q - p)
+            })
+            .collect();
+        if ways.is_empty() || largest.is_nan() || largest <= 0.0 {
+            continue;
+        }
+        let offset = ways.iter().sum::<DVec3>() / ways.len() as f64;
+        landmarks.extend(on_lip.iter().map(|&v| Landmark {
+            mask: vec![(v as usize, 1.0)],
+            target: placed[v as usize] + offset,
+            slack: HELD_SLACK_MM * mm,
+            held: true,
+        }));
+    }
+    landmarks
 }
 
 /// Where on the mask (ARKit's face coordinates, metres: +x the person's

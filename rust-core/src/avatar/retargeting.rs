@@ -278,6 +278,45 @@ pub fn mapped_shapes(
         .collect())
 }
 
+/// The vertices whose motion the face does not see, for `U_i` (module
+/// docs): those of the face's parts beyond the face region, but the lids
+/// within [`LIDS_REACH`] eyeball radii of an eyeball's centre.
+fn unseen_vertices(
+    avatar: &Avatar,
+    registration: &FaceRegistration,
+    positions: &[DVec3],
+) -> Vec<bool> {
+    let offsets = avatar.vertex_offsets();
+    let mut hidden = vec![false; positions.len()];
+    for &i in &registration.face_parts {
+        if i + 1 < offsets.len() {
+            hidden[offsets[i]..offsets[i + 1]].fill(true);
+        }
+    }
+    for f in &registration.map.face {
+        if let Some(x) = hidden.get_mut(f.vertex as usize) {
+            *x = false;
+        }
+    }
+    for eyeball in &registration.eyeballs {
+        let points: Vec<DVec3> = eyeball
+            .iter()
+            .filter_map(|&v| positions.get(v as usize).copied())
+            .collect();
+        let centre = points.iter().sum::<DVec3>() / points.len().max(1) as f64;
+        let radius = points
+            .iter()
+            .map(|p| p.distance(centre))
+            .fold(0.0, f64::max);
+        for (p, x) in positions.iter().zip(hidden.iter_mut()) {
+            if p.distance(centre) <= LIDS_REACH * radius {
+                *x = false;
+            }
+        }
+    }
+    hidden
+}
+
 /// Solves Eq. (4) for all 52 ARKit shapes of `shapes` (module docs).
 pub fn retarget(
     avatar: &Avatar,
@@ -296,6 +335,8 @@ pub fn retarget(
         &positions,
         &face_part_triangles(avatar, registration),
     );
+    let hidden = unseen_vertices(avatar, registration, &positions);
+    let mut unseen = vec![0.0; targets.len()];
     let mut g = Mat::<f64>::zeros(rows, targets.len());
     for (i, blendshape) in targets.iter().enumerate() {
         let d: Vec<DVec3> = avatar
@@ -303,6 +344,12 @@ pub fn retarget(
             .iter()
             .map(|d| d.as_dvec3())
             .collect();
+        unseen[i] = d
+            .iter()
+            .zip(&hidden)
+            .filter(|(_, h)| **h)
+            .map(|(d, _)| d.length_squared())
+            .sum();
         let seen = registration.map.apply(&on_skin.see(&d));
         for (r, v) in seen.iter().enumerate() {
             for axis in 0..3 {
@@ -331,50 +378,9 @@ pub fn retarget(
         }
     }
     let mut gt_b = g.transpose() * &rhs;
-    // What each target moves where the face cannot see it: a departure
-    // from the prior costs that much more (module docs).
-    // Unseen: the face's parts beyond the face region, but the lids round
-    // the eyeballs (module docs).
-    let offsets = avatar.vertex_offsets();
-    let mut seen = vec![true; positions.len()];
-    for &i in &registration.face_parts {
-        if i + 1 < offsets.len() {
-            seen[offsets[i]..offsets[i + 1]].fill(false);
-        }
-    }
-    for f in face {
-        if let Some(x) = seen.get_mut(f.vertex as usize) {
-            *x = true;
-        }
-    }
-    for eyeball in &registration.eyeballs {
-        let points: Vec<DVec3> = eyeball
-            .iter()
-            .filter_map(|&v| positions.get(v as usize).copied())
-            .collect();
-        let centre = points.iter().sum::<DVec3>() / points.len().max(1) as f64;
-        let radius = points
-            .iter()
-            .map(|p| p.distance(centre))
-            .fold(0.0, f64::max);
-        for (p, x) in positions.iter().zip(seen.iter_mut()) {
-            if p.distance(centre) <= LIDS_REACH * radius {
-                *x = true;
-            }
-        }
-    }
-    let unseen: Vec<f64> = targets
-        .iter()
-        .map(|t| {
-            avatar
-                .summed_displacement(&t.targets)
-                .iter()
-                .zip(&seen)
-                .filter(|(_, f)| !**f)
-                .map(|(d, _)| d.as_dvec3().length_squared())
-                .sum()
-        })
-        .collect();
+    // What each target moves where the face cannot see it (`U_i`, summed
+    // in the loop above): a departure from the prior costs that much more
+    // (module docs).
     for (i, u) in unseen.iter().enumerate() {
         system[(i, i)] += u;
     }

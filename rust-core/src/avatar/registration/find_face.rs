@@ -448,6 +448,9 @@ fn slit_landmarks(
     let pairs = lips_parting(positions, skin_triangles, &jaw, middle, half_width, mm);
     let motion = |v: u32| mask_jaw.get(v as usize).map_or(0.0, |d| d.length());
     let largest = slit.iter().map(|&v| motion(v)).fold(0.0, f64::max);
+    if largest.is_nan() || largest <= 0.0 {
+        return Vec::new();
+    }
     let mut landmarks = Vec::new();
     for lower in [true, false] {
         let edge: Vec<DVec3> = pairs
@@ -472,7 +475,7 @@ fn slit_landmarks(
                 (q.distance(p) <= PARTING_REACH_MM * mm).then_some(*q - p)
             })
             .collect();
-        if ways.is_empty() || largest.is_nan() || largest <= 0.0 {
+        if ways.is_empty() {
             continue;
         }
         let offset = ways.iter().sum::<DVec3>() / ways.len() as f64;

@@ -15,15 +15,16 @@ pub struct Bend {
     pub at: Vec3,
 }
 
-/// The largest change of dihedral angle, under displacement `shape` (per
-/// vertex of `positions`), over the interior edges of `triangles` whose
-/// two ends pass `counts`; `None` when no edge does.
-pub fn largest_bend(
+/// The change of dihedral angle (degrees) under displacement `shape` (per
+/// vertex of `positions`) at every interior edge of `triangles` (an edge
+/// with exactly two triangles) whose two ends pass `counts`, with the
+/// edge's ends.
+pub fn bends(
     positions: &[Vec3],
     triangles: &[[u32; 3]],
     shape: &[Vec3],
     counts: impl Fn(u32, u32) -> bool,
-) -> Option<Bend> {
+) -> Vec<((u32, u32), f64)> {
     let mut sides: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
     for (i, t) in triangles.iter().enumerate() {
         for k in 0..3 {
@@ -38,17 +39,32 @@ pub fn largest_bend(
             .normalize_or_zero()
     };
     sides
-        .iter()
+        .into_iter()
         .filter(|((a, b), ts)| ts.len() == 2 && counts(*a, *b))
-        .map(|((a, b), ts)| {
+        .map(|(edge, ts)| {
             let [s, t] = [triangles[ts[0]], triangles[ts[1]]];
             let before = normal(s, false).angle_between(normal(t, false));
             let after = normal(s, true).angle_between(normal(t, true));
-            Bend {
-                degrees: (after - before).abs().to_degrees() as f64,
-                at: 0.5 * (positions[*a as usize] + positions[*b as usize]),
-            }
+            (edge, (after - before).abs().to_degrees() as f64)
         })
-        .filter(|b| b.degrees.is_finite())
+        .filter(|(_, d)| d.is_finite())
+        .collect()
+}
+
+/// The largest change of dihedral angle, under displacement `shape` (per
+/// vertex of `positions`), over the interior edges of `triangles` whose
+/// two ends pass `counts`; `None` when no edge does.
+pub fn largest_bend(
+    positions: &[Vec3],
+    triangles: &[[u32; 3]],
+    shape: &[Vec3],
+    counts: impl Fn(u32, u32) -> bool,
+) -> Option<Bend> {
+    bends(positions, triangles, shape, counts)
+        .into_iter()
+        .map(|((a, b), degrees)| Bend {
+            degrees,
+            at: 0.5 * (positions[a as usize] + positions[b as usize]),
+        })
         .max_by(|x, y| x.degrees.total_cmp(&y.degrees))
 }

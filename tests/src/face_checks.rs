@@ -46,6 +46,10 @@ pub struct FaceChecks {
     /// in the lower half of the head: under the chin, down the neck, over
     /// the jaw's angle.
     pub neck_bend: Option<Bend>,
+    /// The same bend under `A_j`, the avatar's own shapes at the weights
+    /// the retargeting gave the person's jawOpen (Eq. 4): what the rig
+    /// itself does at the person's opening, before the implant corrects it.
+    pub neck_bend_rig: Option<Bend>,
 }
 
 /// Measures `made` (the person's avatar on `stock`, which must have taken
@@ -135,15 +139,14 @@ pub fn face_checks(
             (l.min(y), h.max(y))
         });
     let lower = |v: usize| rest32[v].y < 0.5 * (low + high);
-    let neck_bend = largest_bend(
-        &rest32,
-        &triangles,
-        &implanted.shapes[Blendshape::JawOpen.index()],
-        |a, b| {
+    let neck = |shape: &[Vec3]| {
+        largest_bend(&rest32, &triangles, shape, |a, b| {
             let (a, b) = (a as usize, b as usize);
             !(face[a] && face[b]) && by_outline[a] && by_outline[b] && lower(a) && lower(b)
-        },
-    );
+        })
+    };
+    let neck_bend = neck(&implanted.shapes[Blendshape::JawOpen.index()]);
+    let neck_bend_rig = neck(&made.retargeting.displacement(avatar, Blendshape::JawOpen));
     FaceChecks {
         fit_max_mm,
         border_strain: bands[0].0,
@@ -154,6 +157,7 @@ pub fn face_checks(
         blinks: f.blinks.iter().map(|(b, _, got)| (*b, *got)).collect(),
         teeth_in_front,
         neck_bend,
+        neck_bend_rig,
     }
 }
 

@@ -5,6 +5,7 @@
 
 mod avatar;
 mod avatar_preview;
+mod evaluate;
 mod info;
 mod interchange;
 mod personalize;
@@ -242,7 +243,7 @@ fn main() -> ExitCode {
         Command::Personalize { file, method, out } => {
             personalize::personalize_command(&file, method, &out)
         }
-        Command::Evaluate { files, json } => personalize::evaluate_command(&files, json),
+        Command::Evaluate { files, json } => evaluate::evaluate_command(&files, json),
         Command::Report {
             session,
             avatar,

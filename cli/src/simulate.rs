@@ -82,8 +82,8 @@ pub fn demo(seed: Option<u64>) -> CliResult {
     println!(
         "\nPersonalized blendshapes (§3.2), evaluated on the held-out test expressions (§4.1):\n"
     );
-    let report = crate::personalize::evaluation_report(&[source], &|_| Ok(session.clone()))?;
-    crate::personalize::print_table(&report);
+    let report = crate::evaluate::evaluation_report(&[source], &|_| Ok(session.clone()))?;
+    crate::evaluate::print_table(&report);
     println!("\nThe avatar (§3.3):\n");
     // A second person, for the preview of two people's faces.
     let other_seed = seed.map_or(2, |s| s.wrapping_add(1));

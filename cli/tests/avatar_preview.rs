@@ -4,31 +4,13 @@
 //! not a folder.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
-fn likeness(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_likeness"))
-        .args(args)
-        .output()
-        .expect("the likeness binary runs")
-}
+mod common;
+use common::{likeness, s, text};
 
+/// A fresh scratch folder for one test.
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!(
-        "likeness-cli-avatar-preview-{}-{name}",
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("a scratch folder");
-    dir
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
-
-fn s(p: &Path) -> String {
-    p.display().to_string()
+    common::scratch("cli-avatar-preview", name)
 }
 
 /// A PNG file decoded: width, height and RGB pixels.

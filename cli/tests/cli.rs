@@ -1,14 +1,10 @@
 //! The `likeness` command as a person uses it: summaries, JSON, and clear
 //! errors on bad input, never a panic.
 
-use std::process::{Command, Output};
+use std::process::Output;
 
-fn likeness(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_likeness"))
-        .args(args)
-        .output()
-        .expect("the likeness binary runs")
-}
+mod common;
+use common::likeness;
 
 fn sample() -> String {
     likeness_tests::committed::path(2).display().to_string()

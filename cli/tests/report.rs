@@ -6,29 +6,18 @@
 use serde_json::Value;
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+
+mod common;
+use common::{likeness, text};
+
+/// A fresh scratch folder for one test.
+fn scratch(name: &str) -> PathBuf {
+    common::scratch("report", name)
+}
 
 #[allow(dead_code)]
 #[path = "../src/report/colour_map.rs"]
 mod colour_map;
-
-fn likeness(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_likeness"))
-        .args(args)
-        .output()
-        .expect("the likeness binary runs")
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("likeness-report-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("a scratch folder");
-    dir
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
 
 /// The value of attribute `name` in the tag text `tag`.
 fn attr<'a>(tag: &'a str, name: &str) -> Option<&'a str> {

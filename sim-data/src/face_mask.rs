@@ -182,7 +182,9 @@ fn boundary_loops() -> (Vec<[f64; 2]>, Vec<Vec<usize>>) {
     (points, loops)
 }
 
-fn inside(polygon: &[[f64; 2]], p: [f64; 2]) -> bool {
+/// Whether `p` is inside `polygon` (a closed loop of points, either
+/// orientation), by the even-odd rule.
+pub fn inside(polygon: &[[f64; 2]], p: [f64; 2]) -> bool {
     let mut inside = false;
     let mut j = polygon.len() - 1;
     for i in 0..polygon.len() {

@@ -8,6 +8,7 @@ pub mod avatar_quality;
 pub mod bend;
 pub mod committed;
 pub mod face_checks;
+pub mod gltf_validator;
 pub mod live_link;
 pub mod seam;
 pub mod shared_avatars;

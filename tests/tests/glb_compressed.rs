@@ -19,9 +19,9 @@ use likeness::avatar::glb::{GlbError, NewShapes, check_avatar, read_avatar_bytes
 use likeness::avatar::glb::{TargetEncoding, written_back_glb};
 use likeness_sim::compressed_glb::meshopt_compressed;
 use likeness_sim::default_avatar::default_avatar_glb;
+use likeness_tests::gltf_validator::validate;
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
-use std::process::Command;
 use std::time::Instant;
 
 fn plain_and_compressed() -> (Vec<u8>, Vec<u8>) {
@@ -138,34 +138,6 @@ fn temp_dir() -> PathBuf {
     dir
 }
 
-/// The validator's reports on `files`, or `None` (with a notice) if it is
-/// not installed and `LIKENESS_REQUIRE_TOOLS` is not `1`.
-fn validate(files: &[PathBuf]) -> Option<Vec<Value>> {
-    let js = Path::new(env!("CARGO_MANIFEST_DIR")).join("js");
-    let required = std::env::var("LIKENESS_REQUIRE_TOOLS").as_deref() == Ok("1");
-    let installed = js.join("node_modules/gltf-validator").is_dir();
-    let node = Command::new("node").arg("--version").output().is_ok();
-    if !(installed && node) {
-        assert!(
-            !required,
-            "the glTF-Validator (or node) is missing: run `tests/run` (or `npm ci` in tests/js)"
-        );
-        eprintln!("skipped: the glTF-Validator is not installed (npm ci in tests/js)");
-        return None;
-    }
-    let out = Command::new("node")
-        .arg(js.join("validate.mjs"))
-        .args(files)
-        .output()
-        .expect("node runs");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    Some(serde_json::from_slice(&out.stdout).unwrap())
-}
-
 #[test]
 fn the_avatar_written_back_from_a_compressed_one_is_plain_and_valid() {
     let (_, compressed) = plain_and_compressed();
@@ -239,7 +211,7 @@ fn the_avatar_written_back_from_a_compressed_one_is_plain_and_valid() {
     let dir = temp_dir();
     let path = dir.join("back.glb");
     std::fs::write(&path, &back).unwrap();
-    if let Some(reports) = validate(std::slice::from_ref(&path)) {
+    if let Some(reports) = validate("glb_compressed", std::slice::from_ref(&path)) {
         let issues = &reports[0]["issues"];
         for m in issues["messages"].as_array().unwrap() {
             eprintln!("{m}");

@@ -3,7 +3,8 @@
 //! dense targets, and that file as a `.gltf` with a scaled, rotated,
 //! translated node, a skinned mesh and normal deltas on its targets, read
 //! and written back with new shapes. The validator runs under Node from
-//! `tests/js` (`tests/run` installs it); without it this test fails.
+//! `tests/js` (`likeness_tests::gltf_validator`): without it this test
+//! skips, unless `LIKENESS_REQUIRE_TOOLS=1`.
 
 use glam::{Quat, Vec3};
 use likeness::Blendshape;
@@ -11,9 +12,9 @@ use likeness::avatar::glb::{
     MeshLook, NewGlbOptions, NewShapes, read_avatar, write_avatar, write_new_avatar,
 };
 use likeness::avatar::{Avatar, AvatarMesh, AvatarPart};
+use likeness_tests::gltf_validator::validate;
 use serde_json::{Value, json};
-use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::path::PathBuf;
 
 /// A `w × h` grid in the xy plane at depth `z`, as a part of mesh `mesh`.
 fn grid(mesh: usize, w: u32, h: u32, z: f32, targets: usize) -> AvatarPart {
@@ -144,26 +145,6 @@ fn temp_dir() -> PathBuf {
     let dir = std::env::temp_dir().join(format!("likeness-glb-validator-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     dir
-}
-
-/// The validator's reports on `files`, one per file.
-fn validate(files: &[PathBuf]) -> Vec<Value> {
-    let js = Path::new(env!("CARGO_MANIFEST_DIR")).join("js");
-    assert!(
-        js.join("node_modules/gltf-validator").is_dir(),
-        "the glTF-Validator is not installed: run `tests/run` (or `npm ci` in tests/js) first"
-    );
-    let out = Command::new("node")
-        .arg(js.join("validate.mjs"))
-        .args(files)
-        .output()
-        .expect("cannot run `node`: install Node.js (see tests/run)");
-    assert!(
-        out.status.success(),
-        "validator failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice::<Vec<Value>>(&out.stdout).unwrap()
 }
 
 fn assert_clean(reports: &[Value]) {
@@ -299,7 +280,12 @@ fn written_glbs_pass_the_khronos_validator() {
     let control = dir.join("wrong.gltf");
     std::fs::write(&control, serde_json::to_vec(&wrong).unwrap()).unwrap();
 
-    let reports = validate(&[new, back, control]);
+    let Some(reports) = validate(
+        "written_glbs_pass_the_khronos_validator",
+        &[new, back, control],
+    ) else {
+        return;
+    };
     assert_eq!(reports.len(), 3);
     assert_clean(&reports[..2]);
     assert_ne!(reports[2]["issues"]["numErrors"], json!(0), "the control");

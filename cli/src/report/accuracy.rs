@@ -3,15 +3,16 @@
 //! method (Fig. 4 and 5), the means and ratios that `likeness evaluate`
 //! prints, and the λ curve with the chosen λ marked. Every number comes
 //! from the evaluation (`crate::personalize::evaluate_session` and
-//! `report_json`, the code behind `likeness evaluate --json`).
+//! `crate::evaluate::EvaluationReport`, what `likeness evaluate --json`
+//! prints).
 
-use super::charts::{self, Bars, ChartResult, DT, EBFR, FONT, GREY, MARK, PAPER, PRODUCT};
+use super::charts::{self, Bars, ChartResult, DT, EBFR, FONT, MARK, PAPER, PRODUCT};
 use super::html::{self, Section, escape, number_cell};
 use super::output::Files;
+use crate::evaluate::{CurvePoint, EvaluationReport};
 use crate::personalize::{MethodRun, SessionEvaluation};
 use likeness::personalize::Method;
 use plotters::prelude::*;
-use serde_json::Value;
 use std::fmt::Write;
 
 /// The size of Fig. 4 and 5.
@@ -43,7 +44,7 @@ pub fn run(evaluation: &SessionEvaluation, method: Method) -> Option<&MethodRun>
 /// that `evaluate --json` prints for it (`summary`).
 pub fn section(
     evaluation: &SessionEvaluation,
-    summary: &Value,
+    summary: &EvaluationReport,
     files: &mut Files,
 ) -> Result<Section, Box<dyn std::error::Error>> {
     let methods = compared_methods();
@@ -128,13 +129,13 @@ pub fn section(
 }
 
 /// The table of each method's means, as `evaluate` prints it.
-fn means_table(summary: &Value) -> String {
+fn means_table(summary: &EvaluationReport) -> String {
     let rows: Vec<String> = Method::ALL
         .iter()
         .map(|m| {
-            let v = &summary["methods"][m.name()];
-            let lambda = v["lambda"].get(0).and_then(Value::as_f64);
-            let rule = v["lambda_rule"].as_str().unwrap_or("");
+            let v = summary.method(*m);
+            let lambda = v.and_then(|v| v.lambda.first());
+            let rule = v.and_then(|v| v.lambda_rule.as_deref()).unwrap_or("");
             format!(
                 "<tr data-method=\"{m}\"><td>{m}{}</td>{}{}{}{}<td class=\"num\">{}</td></tr>",
                 if *m == Method::DEFAULT {
@@ -142,10 +143,10 @@ fn means_table(summary: &Value) -> String {
                 } else {
                     ""
                 },
-                number_cell("rmse_mm", v["rmse_mm"].as_f64(), 3),
-                number_cell("max_mm", v["max_mm"].as_f64(), 3),
-                number_cell("truth_rmse_mm", v["truth_rmse_mm"].as_f64(), 3),
-                number_cell("truth_max_mm", v["truth_max_mm"].as_f64(), 3),
+                number_cell("rmse_mm", v.map(|v| v.rmse_mm), 3),
+                number_cell("max_mm", v.map(|v| v.max_mm), 3),
+                number_cell("truth_rmse_mm", v.and_then(|v| v.truth_rmse_mm), 3),
+                number_cell("truth_max_mm", v.and_then(|v| v.truth_max_mm), 3),
                 lambda.map_or("–".to_string(), |l| format!("{l:.2e} ({rule})")),
             )
         })
@@ -164,42 +165,20 @@ fn means_table(summary: &Value) -> String {
     )
 }
 
-/// The ratios that `evaluate` prints, in the paper's order, with words.
-const RATIOS: [(&str, &str); 8] = [
-    ("rmse_paper_over_ebfr", "RMSE: paper / EBFR"),
-    ("rmse_paper_over_dt", "RMSE: paper / DT"),
-    ("max_paper_over_ebfr", "maximum: paper / EBFR"),
-    ("max_paper_over_dt", "maximum: paper / DT"),
-    ("rmse_paper_cv_over_ebfr", "RMSE: paper-cv / EBFR"),
-    ("rmse_paper_cv_over_dt", "RMSE: paper-cv / DT"),
-    ("max_paper_cv_over_ebfr", "maximum: paper-cv / EBFR"),
-    ("max_paper_cv_over_dt", "maximum: paper-cv / DT"),
-];
-
 /// The ratios of the paper's §4.1 (the paper reports RMSE 0.58 of EBFR's
-/// and 0.45 of DT's, maximum 0.50 and 0.38): those of [`RATIOS`] first,
-/// then any other the summary has.
-fn ratios_table(summary: &Value) -> String {
-    let Some(ratios) = summary["ratios"].as_object() else {
-        return String::new();
-    };
-    let known = RATIOS
+/// and 0.45 of DT's, maximum 0.50 and 0.38), in the paper's order.
+fn ratios_table(summary: &EvaluationReport) -> String {
+    let rows: Vec<String> = summary
+        .ratios
+        .rows()
         .iter()
-        .map(|(k, words)| (k.to_string(), words.to_string()));
-    let others = ratios
-        .keys()
-        .filter(|k| RATIOS.iter().all(|(r, _)| r != k))
-        .map(|k| (k.clone(), k.replace('_', " ")));
-    let rows: Vec<String> = known
-        .chain(others)
-        .filter_map(|(key, words)| {
-            let value = ratios.get(&key)?;
-            Some(format!(
+        .map(|(key, words, value)| {
+            format!(
                 "<tr data-ratio=\"{}\"><td>{}</td>{}</tr>",
-                escape(&key),
-                escape(&words),
-                number_cell(&key, value.as_f64(), 3)
-            ))
+                escape(key),
+                escape(words),
+                number_cell(key, value.is_finite().then_some(*value), 3)
+            )
         })
         .collect();
     format!(
@@ -209,19 +188,18 @@ fn ratios_table(summary: &Value) -> String {
 }
 
 /// The λ study as a table.
-fn lambda_table(summary: &Value) -> String {
-    let rows: Vec<String> = summary["lambda_curve"]
-        .as_array()
-        .into_iter()
-        .flatten()
+fn lambda_table(summary: &EvaluationReport) -> String {
+    let rows: Vec<String> = summary
+        .lambda_curve
+        .iter()
         .map(|p| {
-            let lambda = p["lambda"].as_f64().unwrap_or(f64::NAN);
+            let lambda = p.lambda;
             format!(
                 "<tr data-lambda=\"{lambda}\"><td class=\"num\">{lambda:e}</td>{}{}{}{}</tr>",
-                number_cell("rmse_mm", p["rmse_mm"].as_f64(), 3),
-                number_cell("max_mm", p["max_mm"].as_f64(), 3),
-                number_cell("truth_rmse_mm", p["truth_rmse_mm"].as_f64(), 3),
-                number_cell("truth_max_mm", p["truth_max_mm"].as_f64(), 3),
+                number_cell("rmse_mm", p.rmse_mm, 3),
+                number_cell("max_mm", p.max_mm, 3),
+                number_cell("truth_rmse_mm", p.truth_rmse_mm, 3),
+                number_cell("truth_max_mm", p.truth_max_mm, 3),
             )
         })
         .collect();
@@ -275,19 +253,12 @@ fn per_expression_table(evaluation: &SessionEvaluation, methods: &[(Method, RGBC
 
 /// The λ curve: RMSE (left) and maximum error (right) against λ on a log
 /// axis, recorded and true, with the chosen λ.
-fn lambda_svg(summary: &Value) -> ChartResult<String> {
-    let points: Vec<&Value> = summary["lambda_curve"]
-        .as_array()
-        .into_iter()
-        .flatten()
-        .collect();
-    let chosen = summary["methods"][Method::PaperCv.name()]["lambda"]
-        .get(0)
-        .and_then(Value::as_f64);
-    let lambdas = points
-        .iter()
-        .filter_map(|p| p["lambda"].as_f64())
-        .chain(chosen);
+fn lambda_svg(summary: &EvaluationReport) -> ChartResult<String> {
+    let points: &[CurvePoint] = &summary.lambda_curve;
+    let chosen = summary
+        .method(Method::PaperCv)
+        .and_then(|m| m.lambda.first().copied());
+    let lambdas = points.iter().map(|p| p.lambda).chain(chosen);
     let (lo, hi) = lambdas.fold((f64::INFINITY, 0.0f64), |(lo, hi), l| {
         (lo.min(l), hi.max(l))
     });
@@ -298,18 +269,19 @@ fn lambda_svg(summary: &Value) -> ChartResult<String> {
     };
     charts::svg(LAMBDA_SIZE.0, LAMBDA_SIZE.1, |root| {
         let halves = root.split_evenly((1, 2));
-        for (half, (key, what)) in halves.iter().zip([
-            ("rmse_mm", "mean RMSE (mm)"),
-            ("max_mm", "mean maximum error (mm)"),
-        ]) {
-            let truth_key = format!("truth_{key}");
-            let series = |k: &str| -> Vec<(f64, f64)> {
+        type Figure = fn(&CurvePoint) -> Option<f64>;
+        let panels: [(Figure, Figure, &str); 2] = [
+            (|p| p.rmse_mm, |p| p.truth_rmse_mm, "mean RMSE (mm)"),
+            (|p| p.max_mm, |p| p.truth_max_mm, "mean maximum error (mm)"),
+        ];
+        for (half, (recorded_of, truth_of, what)) in halves.iter().zip(panels) {
+            let series = |f: Figure| -> Vec<(f64, f64)> {
                 points
                     .iter()
-                    .filter_map(|p| Some((p["lambda"].as_f64()?, p[k].as_f64()?)))
+                    .filter_map(|p| Some((p.lambda, f(p)?)))
                     .collect()
             };
-            let (recorded, truth) = (series(key), series(&truth_key));
+            let (recorded, truth) = (series(recorded_of), series(truth_of));
             let top = recorded
                 .iter()
                 .chain(&truth)
@@ -361,13 +333,7 @@ fn lambda_svg(summary: &Value) -> ChartResult<String> {
                         PathElement::new(vec![(x, y), (x + 16, y)], MARK.stroke_width(2))
                     });
             }
-            chart
-                .configure_series_labels()
-                .position(SeriesLabelPosition::UpperLeft)
-                .background_style(WHITE.mix(0.9))
-                .border_style(GREY)
-                .label_font((FONT, 15))
-                .draw()?;
+            charts::legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
         }
         Ok(())
     })

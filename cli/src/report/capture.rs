@@ -4,7 +4,7 @@
 //! prompt's requested weight around its detected peak (and the true peak
 //! where the simulator knows it), and the neutral scan rendered.
 
-use super::charts::{self, Area, ChartResult, EBFR, FONT, GREY, MARK, PAPER};
+use super::charts::{self, Area, ChartResult, EBFR, FONT, MARK, PAPER};
 use super::colour_map::SKIN;
 use super::html::{self, Section, escape};
 use super::output::Files;
@@ -285,13 +285,7 @@ fn timeline_svg(session: &Session, report: &ReplayReport) -> ChartResult<String>
                 .label(name)
                 .legend(move |(x, y)| Circle::new((x + 5, y), 4, colour.filled()));
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.9))
-            .border_style(GREY)
-            .label_font((FONT, 15))
-            .draw()?;
+        charts::legend(&mut chart, SeriesLabelPosition::UpperRight)?;
         Ok(())
     })
 }

@@ -48,6 +48,22 @@ pub fn svg(
     Ok(text)
 }
 
+/// The legend of `chart`'s labelled series, in the report's style: a
+/// light box with a grey border at `position`.
+pub fn legend<'b, CT: plotters::coord::CoordTranslate>(
+    chart: &mut ChartContext<'b, SVGBackend<'b>, CT>,
+    position: SeriesLabelPosition,
+) -> ChartResult<()> {
+    chart
+        .configure_series_labels()
+        .position(position)
+        .background_style(WHITE.mix(0.9))
+        .border_style(GREY)
+        .label_font((FONT, 15))
+        .draw()?;
+    Ok(())
+}
+
 /// One series of a grouped bar chart: its name, colour and one value per
 /// category.
 pub struct Bars<'a> {
@@ -105,13 +121,7 @@ pub fn grouped_bars(
                     Rectangle::new([(x, y - 5), (x + 12, y + 5)], colour.filled())
                 });
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.9))
-            .border_style(GREY)
-            .label_font((FONT, 15))
-            .draw()?;
+        legend(&mut chart, SeriesLabelPosition::UpperRight)?;
         Ok(())
     })
 }

@@ -34,11 +34,12 @@ pub(crate) mod rasterizer;
 mod shape_grid;
 
 use crate::CliResult;
+use crate::evaluate::{EvaluationReport, summarize_session};
 use crate::info::read_session;
-use crate::personalize::{evaluate_session, report_json, summarize_session};
+use crate::personalize::evaluate_session;
 use likeness::Session;
 use likeness::personalize::Method;
-use serde_json::{Value, json};
+use serde_json::json;
 use std::fmt::Write;
 use std::path::Path;
 use std::time::Instant;
@@ -68,14 +69,12 @@ pub fn report_command(session_path: &Path, avatar: Option<&Path>, out: &Path) ->
     bar.set_message("evaluating");
     let name = session_path.display().to_string();
     let evaluation = evaluate_session(&name, &session, 1, &|| bar.inc(1))?;
-    let mut summary = report_json(
+    let mut summary = EvaluationReport::new(
         std::slice::from_ref(&name),
         &[summarize_session(&evaluation)],
-    )?;
+    );
     // Times of one run are no measurement: `evaluate` takes the median of five.
-    if let Some(object) = summary.as_object_mut() {
-        object.remove("timings_ms");
-    }
+    summary.timings_ms = None;
     bar.inc(1);
     sections.push(accuracy::section(&evaluation, &summary, &mut files)?);
     files.add(
@@ -139,7 +138,7 @@ pub fn report_command(session_path: &Path, avatar: Option<&Path>, out: &Path) ->
 
 /// The page's opening: what the session is, and the headline in plain
 /// words (the product's mean error against the generic shapes').
-fn intro(session: &Session, summary: &Value) -> String {
+fn intro(session: &Session, summary: &EvaluationReport) -> String {
     let mut out = String::new();
     let _ = write!(
         out,
@@ -156,7 +155,7 @@ fn intro(session: &Session, summary: &Value) -> String {
             ""
         }
     );
-    let rmse = |m: Method| summary["methods"][m.name()]["rmse_mm"].as_f64();
+    let rmse = |m: Method| summary.method(m).map(|r| r.rmse_mm);
     if let (Some(product), Some(generic)) = (rmse(Method::DEFAULT), rmse(Method::Dt)) {
         let _ = write!(
             out,

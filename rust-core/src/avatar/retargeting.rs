@@ -86,6 +86,34 @@ pub const LIDS_REACH: f64 = 1.5;
 /// diagonal are written as zero (a micrometre on a metre-sized avatar).
 pub const NEGLIGIBLE: f64 = 1e-6;
 
+/// The length below which a displacement on an avatar is invisible:
+/// [`NEGLIGIBLE`] of its bounding box's diagonal. Written as zero, such
+/// displacements keep a sparse target sparse.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NegligibleLength(f64);
+
+impl NegligibleLength {
+    /// The length for an avatar whose vertices are at `positions` (zero
+    /// when their box is not finite: nothing is then negligible).
+    pub fn of(positions: impl IntoIterator<Item = DVec3>) -> Self {
+        let (lo, hi) = positions.into_iter().fold(
+            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+            |(lo, hi), p| (lo.min(p), hi.max(p)),
+        );
+        let cut = NEGLIGIBLE * (hi - lo).length();
+        NegligibleLength(if cut.is_finite() { cut } else { 0.0 })
+    }
+
+    /// `d` as written: zero when shorter than the negligible length.
+    pub fn written(self, d: DVec3) -> Vec3 {
+        if d.length() < self.0 {
+            Vec3::ZERO
+        } else {
+            d.as_vec3()
+        }
+    }
+}
+
 /// Why no retargeting could be computed.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum RetargetError {
@@ -178,7 +206,7 @@ impl Retargeting {
     /// `Avatar::positions`) under ARKit shape `shape`, `Σ_i w̃_ji B̃_i`.
     pub fn displacement(&self, avatar: &Avatar, shape: Blendshape) -> Vec<Vec3> {
         let own = self.blendshape_displacements(avatar);
-        self.combine(avatar.vertex_count(), &own, shape, 0.0)
+        self.combine(avatar.vertex_count(), &own, shape, NegligibleLength(0.0))
     }
 
     /// `A_j` for all 52 shapes, each avatar blendshape's displacement
@@ -188,17 +216,10 @@ impl Retargeting {
     pub fn displacements(&self, avatar: &Avatar) -> Vec<Vec<Vec3>> {
         let own = self.blendshape_displacements(avatar);
         let positions = avatar.positions();
-        let (lo, hi) = positions.iter().fold(
-            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-        );
-        let cut = NEGLIGIBLE * f64::from((hi - lo).length());
+        let cut = NegligibleLength::of(positions.iter().map(|p| p.as_dvec3()));
         Blendshape::ALL
             .iter()
-            .map(|b| {
-                let cut = if cut.is_finite() { cut } else { 0.0 };
-                self.combine(positions.len(), &own, *b, cut)
-            })
+            .map(|b| self.combine(positions.len(), &own, *b, cut))
             .collect()
     }
 
@@ -225,7 +246,7 @@ impl Retargeting {
         n: usize,
         own: &[Vec<(usize, Vec3)>],
         shape: Blendshape,
-        cut: f64,
+        cut: NegligibleLength,
     ) -> Vec<Vec3> {
         let mut out = vec![DVec3::ZERO; n];
         if let Some(row) = self.weights.get(shape.index()) {
@@ -239,15 +260,7 @@ impl Retargeting {
                 }
             }
         }
-        out.iter()
-            .map(|d| {
-                if d.length() < cut {
-                    Vec3::ZERO
-                } else {
-                    d.as_vec3()
-                }
-            })
-            .collect()
+        out.into_iter().map(|d| cut.written(d)).collect()
     }
 }
 

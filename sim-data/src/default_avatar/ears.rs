@@ -12,8 +12,9 @@
 
 use super::head::{CENTRE, ray_radius};
 use super::mouth::Mesh;
+use super::uv_sphere::{even_rings, uv_sphere};
 use glam::{DMat3, DVec3};
-use std::f64::consts::{PI, TAU};
+use std::f64::consts::PI;
 
 /// Half width, half height, half thickness of an ear (m).
 pub const EAR_RADII: DVec3 = DVec3::new(0.016, 0.031, 0.005);
@@ -38,7 +39,6 @@ pub fn ear(side: usize) -> Mesh {
     let d = (towards - CENTRE).normalize();
     let front_edge = CENTRE + d * (ray_radius(CENTRE, d) - 0.003);
     let centre = front_edge + w * EAR_RADII.x;
-    let mut p = Vec::new();
     let local = |th: f64, ph: f64| {
         let q = DVec3::new(th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos());
         let r = (q.x * q.x + q.y * q.y).sqrt();
@@ -49,31 +49,13 @@ pub fn ear(side: usize) -> Mesh {
         };
         centre + w * (q.x * EAR_RADII.x) + u * (q.y * EAR_RADII.y) + n * z
     };
-    p.push(local(0.0, 0.0));
-    for k in 1..rings {
-        for j in 0..segments {
-            p.push(local(
-                PI * k as f64 / rings as f64,
-                TAU * j as f64 / segments as f64,
-            ));
-        }
-    }
-    p.push(local(PI, 0.0));
-    let r = |k: usize, j: usize| (1 + k * segments + j % segments) as u32;
-    let mut t = Vec::new();
-    for j in 0..segments {
-        t.push([0, r(0, j), r(0, j + 1)]);
-    }
-    for k in 0..rings - 2 {
-        for j in 0..segments {
-            t.push([r(k, j), r(k + 1, j), r(k + 1, j + 1)]);
-            t.push([r(k, j), r(k + 1, j + 1), r(k, j + 1)]);
-        }
-    }
-    let last = (p.len() - 1) as u32;
-    for j in 0..segments {
-        t.push([r(rings - 2, j), last, r(rings - 2, j + 1)]);
-    }
+    let (p, mut t) = uv_sphere(
+        local(0.0, 0.0),
+        &even_rings(rings),
+        segments,
+        local,
+        local(PI, 0.0),
+    );
     // The frame (w, u, n) is left-handed on the right side: flip there.
     if w.cross(u).dot(n) < 0.0 {
         t.iter_mut().for_each(|tri| tri.swap(1, 2));

@@ -9,6 +9,7 @@
 //! centre; along a ray at angle `θ` from the visual axis the surface is at
 //! `r(θ) = max(R, k cos θ + √(R_k² − k² sin² θ))`.
 
+use super::uv_sphere::uv_sphere;
 use glam::{DMat3, DVec3};
 use std::f64::consts::{PI, TAU};
 
@@ -80,36 +81,21 @@ pub fn eyeball(centre: DVec3) -> (Vec<DVec3>, Vec<[u32; 3]>) {
             PI * (t - 0.3 * (PI * t).sin() / PI)
         })
         .collect();
-    let mut positions = vec![centre + DVec3::Z * surface_radius(0.0)];
-    for &theta in &thetas {
-        for j in 0..SEGMENTS {
-            let phi = TAU * j as f64 / SEGMENTS as f64;
-            let d = DVec3::new(
-                theta.sin() * phi.cos(),
-                theta.sin() * phi.sin(),
-                theta.cos(),
-            );
-            positions.push(centre + d * surface_radius(theta));
-        }
-    }
-    positions.push(centre - DVec3::Z * EYE_RADIUS);
-    let ring = |k: usize, j: usize| (1 + k * SEGMENTS + j % SEGMENTS) as u32;
-    let mut triangles = Vec::new();
-    for j in 0..SEGMENTS {
-        triangles.push([0, ring(0, j), ring(0, j + 1)]);
-    }
-    for k in 0..thetas.len() - 1 {
-        for j in 0..SEGMENTS {
-            triangles.push([ring(k, j), ring(k + 1, j), ring(k + 1, j + 1)]);
-            triangles.push([ring(k, j), ring(k + 1, j + 1), ring(k, j + 1)]);
-        }
-    }
-    let back = (positions.len() - 1) as u32;
-    let last = thetas.len() - 1;
-    for j in 0..SEGMENTS {
-        triangles.push([ring(last, j), back, ring(last, j + 1)]);
-    }
-    (positions, triangles)
+    let point = |theta: f64, phi: f64| {
+        let d = DVec3::new(
+            theta.sin() * phi.cos(),
+            theta.sin() * phi.sin(),
+            theta.cos(),
+        );
+        centre + d * surface_radius(theta)
+    };
+    uv_sphere(
+        centre + DVec3::Z * surface_radius(0.0),
+        &thetas,
+        SEGMENTS,
+        point,
+        centre - DVec3::Z * EYE_RADIUS,
+    )
 }
 
 /// Rotation of the eye on `side` (0 = left, +x) for the gaze shapes:

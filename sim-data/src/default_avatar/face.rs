@@ -19,7 +19,7 @@
 //!    (the mask's neutral positions, in `f64`).
 
 use super::lips::{border_lines, on_the_lips};
-use crate::face_mask::{FaceMask, face_mask};
+use crate::face_mask::{FaceMask, face_mask, inside};
 use glam::DVec3;
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
@@ -85,22 +85,6 @@ pub fn barycentric(p: [f64; 2], a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> [f64; 
     let l0 = ((b[1] - c[1]) * (p[0] - c[0]) + (c[0] - b[0]) * (p[1] - c[1])) / det;
     let l1 = ((c[1] - a[1]) * (p[0] - c[0]) + (a[0] - c[0]) * (p[1] - c[1])) / det;
     [l0, l1, 1.0 - l0 - l1]
-}
-
-/// Even-odd point-in-polygon test.
-pub fn inside(polygon: &[[f64; 2]], p: [f64; 2]) -> bool {
-    let mut inside = false;
-    let mut j = polygon.len() - 1;
-    for i in 0..polygon.len() {
-        let (a, b) = (polygon[i], polygon[j]);
-        if (a[1] > p[1]) != (b[1] > p[1])
-            && p[0] < (b[0] - a[0]) * (p[1] - a[1]) / (b[1] - a[1]) + a[0]
-        {
-            inside = !inside;
-        }
-        j = i;
-    }
-    inside
 }
 
 /// The position of a mask point on the mask's neutral surface.

@@ -25,8 +25,9 @@
 //! triangles keep their shape on the skin ([`super::meridians`]), with the
 //! face's outline as a hole and the bottom ring as the outer boundary.
 
-use super::face::{inside, triangulate};
+use super::face::triangulate;
 use super::meridians::{AZIMUTHS, Meridians};
+use crate::face_mask::inside;
 use glam::DVec3;
 use std::f64::consts::{PI, TAU};
 

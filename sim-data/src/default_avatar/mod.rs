@@ -22,6 +22,7 @@
 //! | eyeballs, sockets | [`eyes`] | 24 mm globe with an 11.5 mm cornea bulging 2.5 mm, placed as far forward as the lids allow; an iris and a pupil painted on the cornea (their own parts); a 29 mm bowl behind each |
 //! | teeth, gums, tongue, mouth lining | [`mouth`] | 14 rounded-box crowns per jaw on a parabolic arch, tube gums, flattened ellipsoid tongue, an ellipsoid lining open towards the lips |
 //! | rounded mouth opening | [`mouth_opening`] | jawOpen's weight taken towards the corners' share (0.34, measured on ICT-FaceKit) along an ellipse, mouthClose taking it back |
+//! | closed surfaces pole to pole (ears, crowns, tongue, eyeballs) | [`uv_sphere`] | rings of vertices at given polar angles, fans at the poles |
 //! | blendshapes | [`shapes`] | template interpolated on the face, continued past the outline; jaw, gaze and tongue motions |
 //!
 //! Coordinates are ARKit's face-anchor space in metres: +x the person's
@@ -45,6 +46,7 @@ pub mod shapes;
 pub mod skin;
 #[cfg(test)]
 mod tests;
+pub mod uv_sphere;
 
 use crate::face_mask::EYE_CENTRE;
 use crate::template::generic_template;

@@ -12,6 +12,7 @@
 //! underside, resting inside the lower arch, its tip behind the lower
 //! incisors.
 
+use super::uv_sphere::{even_rings, uv_sphere};
 use glam::DVec3;
 use std::f64::consts::{PI, TAU};
 
@@ -67,35 +68,8 @@ fn arch_at_length(len: f64) -> f64 {
 /// A UV sphere of `rings` × `segments` around the y axis (poles up/down),
 /// outward-facing, as unit vectors.
 fn unit_sphere(rings: usize, segments: usize) -> Mesh {
-    let mut p = vec![DVec3::Y];
-    for k in 1..rings {
-        let th = PI * k as f64 / rings as f64;
-        for j in 0..segments {
-            let ph = TAU * j as f64 / segments as f64;
-            p.push(DVec3::new(
-                th.sin() * ph.sin(),
-                th.cos(),
-                th.sin() * ph.cos(),
-            ));
-        }
-    }
-    p.push(-DVec3::Y);
-    let r = |k: usize, j: usize| (1 + k * segments + j % segments) as u32;
-    let mut t = Vec::new();
-    for j in 0..segments {
-        t.push([0, r(0, j), r(0, j + 1)]);
-    }
-    for k in 0..rings - 2 {
-        for j in 0..segments {
-            t.push([r(k, j), r(k + 1, j), r(k + 1, j + 1)]);
-            t.push([r(k, j), r(k + 1, j + 1), r(k, j + 1)]);
-        }
-    }
-    let last = (p.len() - 1) as u32;
-    for j in 0..segments {
-        t.push([r(rings - 2, j), last, r(rings - 2, j + 1)]);
-    }
-    (p, t)
+    let point = |th: f64, ph: f64| DVec3::new(th.sin() * ph.sin(), th.cos(), th.sin() * ph.cos());
+    uv_sphere(DVec3::Y, &even_rings(rings), segments, point, -DVec3::Y)
 }
 
 fn append(mesh: &mut Mesh, part: Mesh) {

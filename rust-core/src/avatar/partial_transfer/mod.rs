@@ -49,7 +49,7 @@ use super::model::Avatar;
 use super::own_shapes::{MaskOnSkin, face_part_triangles};
 use super::registration::FaceRegistration;
 use super::registration::find_face::arkit_displacement;
-use super::retargeting::{NEGLIGIBLE, RetargetError, Retargeting, mapped_shapes};
+use super::retargeting::{NegligibleLength, RetargetError, Retargeting, mapped_shapes};
 use crate::arkit::{Blendshape, Blendshapes};
 use crate::personalize::blendshape_fit::{in_parallel_chunks, in_parallel_ranges};
 use adjacent_step::AdjacentStep;
@@ -359,27 +359,12 @@ pub fn implant(
         // reaches the caller.
         None => repair(0, &mut full),
     };
-    // Invisible displacements written as zero, as for `A_j` (they would
-    // keep a sparse target from being sparse).
-    let (lo, hi) = positions.iter().fold(
-        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-    );
-    let cut = NEGLIGIBLE * (hi - lo).length();
+    // Invisible displacements written as zero, as for `A_j`.
+    let cut = NegligibleLength::of(positions.iter().copied());
     Ok(Implanted {
         shapes: full
             .into_iter()
-            .map(|d| {
-                d.into_iter()
-                    .map(|x| {
-                        if x.length() < cut {
-                            Vec3::ZERO
-                        } else {
-                            x.as_vec3()
-                        }
-                    })
-                    .collect()
-            })
+            .map(|d| d.into_iter().map(|x| cut.written(x)).collect())
             .collect(),
         face_vertices: face.vertices().len(),
         adjacent_vertices: adjacent.region().len(),

@@ -191,12 +191,26 @@ fn a_skinned_mesh_is_placed_by_its_bind_pose_not_its_node() {
     assert_eq!(g.placements[2].node, 2);
 }
 
+/// Body → Head → Body: the file reads, every mesh once, and the cycle is
+/// cut where it closes: the head, reached first from the body, keeps only
+/// its own transform (the body's is left out of it).
 #[test]
-fn a_cycle_in_the_hierarchy_does_not_hang() {
+fn a_cycle_in_the_hierarchy_is_cut_where_it_closes() {
     let (mut doc, bin) = fixture();
     doc["nodes"][1]["children"] = json!([0]);
-    // Either a validation error or a read; neither loops.
-    let _ = read_avatar_bytes(&glb(&doc, &bin), "cycle.glb");
+    let g = read_avatar_bytes(&glb(&doc, &bin), "cycle.glb").expect("reads");
+    let plain = read_fixture();
+    assert_eq!(g.avatar.parts.len(), plain.avatar.parts.len());
+    let head_alone = Mat4::from_translation(Vec3::new(0.0, 0.5, 0.0));
+    let to_cycle = head_alone * head_world().inverse();
+    for (p, q) in g.avatar.parts[0]
+        .positions
+        .iter()
+        .zip(&plain.avatar.parts[0].positions)
+    {
+        assert!(close(*p, to_cycle.transform_point3(*q)), "{p} vs {q}");
+    }
+    assert_eq!(g.avatar.parts[0].triangles, plain.avatar.parts[0].triangles);
 }
 
 #[test]

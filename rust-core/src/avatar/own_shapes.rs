@@ -49,10 +49,11 @@ use super::registration::nonrigid::vertex_normals;
 use super::registration::rigid_icp::MIN_NORMAL_DOT;
 use crate::arkit::{Blendshape, Blendshapes, BlendshapesError};
 use crate::geometry::closest_point::TriangleGrid;
+use crate::geometry::sparse_cholesky;
+use faer::Mat;
 use faer::linalg::solvers::Solve;
-use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
-use faer::sparse::{SparseColMat, Triplet};
-use faer::{Mat, Side};
+use faer::sparse::Triplet;
+use faer::sparse::linalg::solvers::Llt;
 use glam::DVec3;
 
 /// `ε`, the pull of each mask vertex towards the avatar's value at its
@@ -118,12 +119,7 @@ impl MaskOnSkin {
         let mean = diagonal.iter().sum::<f64>() / seen.max(1) as f64;
         let pull = POINT_PULL * if mean > 0.0 { mean } else { 1.0 };
         entries.extend((0..n).map(|i| Triplet::new(i, i, pull)));
-        let llt = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &entries)
-            .ok()
-            .and_then(|matrix| {
-                let symbolic = SymbolicLlt::try_new(matrix.symbolic(), Side::Lower).ok()?;
-                Llt::try_new_with_symbolic(symbolic, matrix.as_ref(), Side::Lower).ok()
-            });
+        let llt = sparse_cholesky::factor(n, &entries).ok();
         MaskOnSkin {
             points,
             rows,

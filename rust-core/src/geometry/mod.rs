@@ -15,6 +15,7 @@
 //! | §3.3, the blend margin; motion faded out where nothing moves | shortest edge paths from a set of vertices (Dijkstra) | [`edge_distance`] |
 //! | §3.3 step 2, the person's face: the uniform Laplacian's rows | each vertex's one-ring | [`one_ring`] |
 //! | beyond §3.3, the person's face: skin that must not pass through itself | triangle pairs that cut through each other (Möller–Trumbore, binned) | [`self_intersection`] |
+//! | every linear solve (Eq. 4's transfers, both steps of §3.3, the registration) | one sparse Cholesky factorization, symbolic analysis reusable | [`sparse_cholesky`] |
 //! | §3.3, eyeballs found by their shape | algebraic least-squares sphere (Kåsa 1976) | [`sphere_fit`] |
 
 pub mod closest_point;
@@ -26,6 +27,7 @@ pub mod front_visibility;
 pub mod mesh_boundary;
 pub mod one_ring;
 pub mod self_intersection;
+pub mod sparse_cholesky;
 pub mod sphere_fit;
 pub mod topology;
 

@@ -1,24 +1,27 @@
 //! Which frames of the capture stream, besides the captured peaks, the fit
-//! uses (`multi`) and which held-out frames score λ for the comparison rule
-//! [`LambdaRule::Holdout`](crate::personalize::lambda_selection::LambdaRule::Holdout).
+//! uses (`multi`), and (with the `study` feature) which held-out frames
+//! score λ for the study's rule `LambdaRule::Holdout`.
 //!
 //! Around each captured peak the stream holds the ramp up, the peak and the
 //! hold of the same expression: the same blendshape at other weights, and
 //! other noise. Frames close to the peak (within [`FIT_REACH`]) are nearly
-//! the captured expression itself and make good extra fitting data. Frames
-//! farther away ([`VALIDATION_GAP`] to [`VALIDATION_REACH`]) carry
-//! intermediate weights that no capture has; a fit that generalizes predicts
-//! them, one that chases noise does not. They are never fitted, and they
-//! are at least a quarter second away from any fitted frame so their tracker
-//! noise is only weakly correlated with it (ARKit filters over ~0.3 s).
+//! the captured expression itself and make good extra fitting data.
+//!
+//! The study's held-out frames lie farther away (`VALIDATION_GAP` to
+//! `VALIDATION_REACH` frames): they carry intermediate weights that no
+//! capture has, are never fitted, and are at least a quarter second away
+//! from any fitted frame, so their tracker noise is only weakly correlated
+//! with it (ARKit filters over ~0.3 s).
 
 use crate::session::Session;
 
 /// Frames on either side of a capture that `multi` may fit (0.2 s at 60 fps).
 pub const FIT_REACH: usize = 12;
 /// Closest a validation frame may be to a capture (0.25 s at 60 fps).
+#[cfg(feature = "study")]
 pub const VALIDATION_GAP: usize = 15;
 /// Farthest a validation frame may be from a capture (0.67 s at 60 fps).
+#[cfg(feature = "study")]
 pub const VALIDATION_REACH: usize = 40;
 /// A fitted extra frame shows at least this share of the capture's weight
 /// of the prompted shape.
@@ -26,9 +29,11 @@ pub const FIT_MIN_SHARE: f32 = 0.5;
 /// Every this many frames is kept for validation: neighbouring frames at
 /// 60 fps are nearly the same sample, and a third of them scores λ as well
 /// at a third of the cost.
+#[cfg(feature = "study")]
 pub const VALIDATION_STRIDE: usize = 3;
 /// A validation frame shows at least this share of the capture's weight of
 /// the prompted shape (it must show the expression, not the rest face).
+#[cfg(feature = "study")]
 pub const VALIDATION_MIN_SHARE: f32 = 0.2;
 
 /// Frames usable at all: tracked, with a mesh.
@@ -87,6 +92,7 @@ pub fn fit_frames(session: &Session) -> Vec<FrameNearCapture> {
     around_captures(session, 1, FIT_REACH, FIT_MIN_SHARE)
 }
 
+#[cfg(feature = "study")]
 /// Held-out frames for choosing λ, [`VALIDATION_GAP`]–[`VALIDATION_REACH`]
 /// frames from each capture. Disjoint from [`fit_frames`] and from every
 /// captured frame.

@@ -17,23 +17,13 @@
 //! the same on a session without stream meshes (an imported OBJ + CSV
 //! folder) as on one with them. `multi` uses the λ chosen on the captures:
 //! frames next to a peak repeat its tracker noise (ARKit filters over
-//! ~0.3 s), which cross-validation takes for independent evidence, and on
-//! `multi`'s own observations GCV runs to the lower bound of the range on
-//! every committed subject. The marginal likelihood
-//! ([`LambdaRule::Evidence`]) and held-out stream frames
-//! ([`LambdaRule::Holdout`], the former rule, which needs stream meshes)
-//! are kept for comparison (`sim-data/examples/lambda_study.rs`): on the
-//! simulated subjects both end farther from the best λ than GCV. Robust
-//! GCV (Lukas 2006), the one-standard-error rule, per-vertex log-pooled
-//! GCV, GCV per face region and Mallows' Cp (even with the true noise
-//! variance) were measured too and are not kept (README, "Choosing λ from
-//! the captures alone"). What no such rule can fix: the λ whose fit is
-//! truest at the captures themselves is not always the best at new weight
-//! combinations (jaw rotation, correctives, the tracker's distortion), so
-//! GCV, which estimates the former, lands more than 5% above the best on
-//! about one subject in eight.
+//! ~0.3 s), which cross-validation takes for independent evidence.
 //! Leave-one-capture-out would be biased: without capture `i` the shape `i`
 //! is identified almost only by the regularizer, which favours a large λ.
+//! The rules measured against GCV, and what was found, are in
+//! `docs/notes/2026-12-lambda-rules.md`; the two that need code of their own
+//! (the marginal likelihood and held-out stream frames) are built with the
+//! `study` feature only.
 //!
 //! # The search
 //!
@@ -48,13 +38,13 @@
 //! per sampled vertex, so the whole choice costs less than one more fit.
 
 use super::blendshape_fit::BlendshapeFit;
-use super::error::{PersonalizeError, check_size};
+use super::error::PersonalizeError;
+#[cfg(feature = "study")]
 use super::frame_selection::validation_frames;
 use super::lambda_criteria::RidgeCriteria;
-use crate::arkit::{BLENDSHAPE_COUNT, Blendshapes};
 use crate::session::Session;
-use faer::Mat;
-use glam::{DVec3, Vec3};
+#[cfg(feature = "study")]
+use glam::DVec3;
 use std::fmt;
 
 /// The range searched, in decades: λ from 10⁻⁸ (the data alone, nearly)
@@ -75,24 +65,39 @@ pub enum LambdaRule {
     /// The paper's λ = 1, not chosen.
     Fixed,
     /// Largest marginal likelihood (evidence) of the fitted data
-    /// ([`super::lambda_criteria`]).
+    /// ([`super::lambda_criteria`]); the study's only.
+    #[cfg(feature = "study")]
     Evidence,
     /// Smallest generalized cross-validation score (Golub, Heath & Wahba
-    /// 1979), for comparison.
+    /// 1979): the rule of `paper-cv` and `multi`.
     Gcv,
     /// Smallest error on held-out stream frames near the captures
-    /// ([`super::frame_selection::validation_frames`]), for comparison;
-    /// needs stream meshes.
+    /// (`frame_selection::validation_frames`); needs stream meshes; the
+    /// study's only.
+    #[cfg(feature = "study")]
     Holdout,
 }
 
 impl LambdaRule {
+    /// Whether the rule scores λ by the fit's own data (GCV, the evidence),
+    /// rather than by nothing (`Fixed`) or by frames held out of it.
+    pub fn scores_the_fit(self) -> bool {
+        match self {
+            LambdaRule::Gcv => true,
+            #[cfg(feature = "study")]
+            LambdaRule::Evidence => true,
+            _ => false,
+        }
+    }
+
     /// The rule's name in reports.
     pub const fn name(self) -> &'static str {
         match self {
             LambdaRule::Fixed => "fixed",
+            #[cfg(feature = "study")]
             LambdaRule::Evidence => "evidence",
             LambdaRule::Gcv => "gcv",
+            #[cfg(feature = "study")]
             LambdaRule::Holdout => "holdout",
         }
     }
@@ -128,10 +133,9 @@ impl Bound {
 pub struct LambdaScore {
     /// The candidate.
     pub lambda: f64,
-    /// The rule's criterion (smaller is better): for
-    /// [`LambdaRule::Evidence`] the profiled negative log evidence per
-    /// datum, for [`LambdaRule::Gcv`] the GCV score (m²), for
-    /// [`LambdaRule::Holdout`] the mean squared error (m²).
+    /// The rule's criterion (smaller is better): for [`LambdaRule::Gcv`]
+    /// the GCV score (m²); for the study's rules the profiled negative log
+    /// evidence per datum, or the held-out mean squared error (m²).
     pub criterion: f64,
 }
 
@@ -240,10 +244,11 @@ pub fn search_lambda(
     })
 }
 
-/// Chooses λ for `fit` by `rule`. [`LambdaRule::Holdout`] scores on the
+/// Chooses λ for `fit` by `rule`. The study's `Holdout` scores on the
 /// stream frames of `session` (the session `fit` was assembled from); a
 /// session without usable stream frames keeps λ = 1 under that rule, as
 /// does [`LambdaRule::Fixed`].
+#[cfg_attr(not(feature = "study"), allow(unused_variables))]
 pub fn choose_lambda(
     session: &Session,
     fit: &BlendshapeFit<'_>,
@@ -251,101 +256,30 @@ pub fn choose_lambda(
 ) -> Result<LambdaChoice, PersonalizeError> {
     match rule {
         LambdaRule::Fixed => Ok(LambdaChoice::fixed(1.0)),
-        LambdaRule::Evidence | LambdaRule::Gcv => {
+        LambdaRule::Gcv => {
+            let criteria = RidgeCriteria::new(fit);
+            search_lambda(rule, |lambda| Ok(criteria.terms(lambda)?.gcv()))
+        }
+        #[cfg(feature = "study")]
+        LambdaRule::Evidence => {
             let criteria = RidgeCriteria::new(fit);
             search_lambda(rule, |lambda| {
-                let terms = criteria.terms(lambda, rule == LambdaRule::Evidence)?;
-                Ok(match rule {
-                    LambdaRule::Evidence => terms.evidence().unwrap_or(f64::NAN),
-                    _ => terms.gcv(),
-                })
+                Ok(criteria
+                    .terms_with_log_det(lambda)?
+                    .evidence()
+                    .unwrap_or(f64::NAN))
             })
         }
+        #[cfg(feature = "study")]
         LambdaRule::Holdout => {
             let frames = validation_frames(session);
             if frames.is_empty() {
                 return Ok(LambdaChoice::fixed(1.0));
             }
             let neutral: Vec<DVec3> = session.neutral.iter().map(|p| p.as_dvec3()).collect();
-            let error = ValidationError::new(session, &neutral, &frames);
+            let error = super::holdout::ValidationError::new(session, &neutral, &frames);
             search_lambda(rule, |lambda| error.mean_squared(&fit.solve(lambda)?))
         }
-    }
-}
-
-/// The validation error `Σ_f ‖B₀ + Σ_j w_fj B_j − S_f‖²` over a fixed set of
-/// frames, expanded so that scoring a candidate costs no pass over the
-/// frames: with `R_f = S_f − B₀` and per vertex the 52 × 3 block `b` of the
-/// blendshapes,
-///
-/// ```text
-/// Σ_f ‖w_fᵀ b − r_f‖² = tr(bᵀ H b) − 2 tr(bᵀ C_v) + Σ_f ‖r_f‖²,
-/// H = Σ_f w_f w_fᵀ (shared),  C_v = Σ_f w_f r_fᵀ (per vertex).
-/// ```
-pub struct ValidationError {
-    h: Mat<f64>,
-    c: Mat<f64>,
-    constant: f64,
-    samples: usize,
-}
-
-impl ValidationError {
-    /// Prepares the error over `frames` of `session` for a face with
-    /// neutral `neutral`; frames without a mesh of `neutral.len()` vertices,
-    /// and indices past the end of the stream, are skipped.
-    pub fn new(session: &Session, neutral: &[DVec3], frames: &[usize]) -> ValidationError {
-        let n = neutral.len();
-        // Indexing: every mesh used has the neutral's `n` vertices.
-        let used: Vec<(&[f32; BLENDSHAPE_COUNT], &[Vec3])> = frames
-            .iter()
-            .filter_map(|&f| {
-                let frame = session.frames.get(f)?;
-                let vertices = frame.vertices.as_deref().filter(|v| v.len() == n)?;
-                Some((&frame.weights.0, vertices))
-            })
-            .collect();
-        let w = Mat::from_fn(used.len(), BLENDSHAPE_COUNT, |i, j| f64::from(used[i].0[j]));
-        let r = Mat::from_fn(used.len(), 3 * n, |i, c| {
-            f64::from(used[i].1[c / 3][c % 3]) - neutral[c / 3][c % 3]
-        });
-        let constant = r.squared_norm_l2();
-        ValidationError {
-            h: w.transpose() * &w,
-            c: w.transpose() * &r,
-            constant,
-            samples: used.len() * n,
-        }
-    }
-
-    /// Mean squared vertex error (m²) of the delta blendshapes of `shapes`
-    /// (their neutral is taken to be the one given to
-    /// [`ValidationError::new`]): with `B` the 52 × 3n matrix of all
-    /// blendshape coordinates, the sum over vertices is
-    /// `tr(H B Bᵀ) − 2⟨B, C⟩ + Σ‖r‖²`, two matrix products. Shapes of
-    /// another vertex count are [`PersonalizeError::Size`].
-    pub fn mean_squared(&self, shapes: &Blendshapes) -> Result<f64, PersonalizeError> {
-        let deltas = shapes.deltas();
-        let n = self.c.ncols() / 3;
-        // Indexing: 52 deltas (a checked set) of `n` vertices (checked here).
-        check_size(
-            || "blendshapes scored".to_string(),
-            n,
-            shapes.vertex_count(),
-        )?;
-        let b = Mat::from_fn(BLENDSHAPE_COUNT, 3 * n, |j, c| deltas[j][c / 3][c % 3]);
-        let bbt = &b * b.transpose();
-        let mut total = self.constant;
-        for i in 0..BLENDSHAPE_COUNT {
-            for j in 0..BLENDSHAPE_COUNT {
-                total += self.h[(i, j)] * bbt[(j, i)];
-            }
-        }
-        for c in 0..3 * n {
-            for j in 0..BLENDSHAPE_COUNT {
-                total -= 2.0 * b[(j, c)] * self.c[(j, c)];
-            }
-        }
-        Ok(total.max(0.0) / self.samples.max(1) as f64)
     }
 }
 
@@ -368,7 +302,7 @@ mod tests {
         // Monotone criteria stop at the ends, and say so.
         let lower = search_lambda(LambdaRule::Gcv, Ok).unwrap();
         assert_eq!((lower.lambda, lower.at_bound), (1e-8, Some(Bound::Lower)));
-        let upper = search_lambda(LambdaRule::Evidence, |l| Ok(-l)).unwrap();
+        let upper = search_lambda(LambdaRule::Gcv, |l| Ok(-l)).unwrap();
         assert_eq!((upper.lambda, upper.at_bound), (1e2, Some(Bound::Upper)));
         // NaN counts as the worst; an error is passed on.
         let nan = search_lambda(LambdaRule::Gcv, |l| {
@@ -378,89 +312,5 @@ mod tests {
         assert!(nan.lambda <= 1e-3 * 1.0001, "{nan:?}");
         let failed = search_lambda(LambdaRule::Gcv, |_| Err(PersonalizeError::NoCaptures));
         assert_eq!(failed, Err(PersonalizeError::NoCaptures));
-    }
-    use crate::arkit::Weights;
-    use crate::geometry::topology::Topology;
-    use crate::session::{DeviceInfo, Frame, SessionParts, Template};
-
-    #[test]
-    fn the_expanded_error_equals_the_direct_one() {
-        let n = 3;
-        let neutral: Vec<DVec3> = (0..n).map(|v| DVec3::splat(v as f64 * 0.01)).collect();
-        let frames: Vec<Frame> = (0..4)
-            .map(|f| {
-                let mut w = Weights::ZERO;
-                w.0[f] = 0.5;
-                w.0[f + 10] = 0.2;
-                Frame {
-                    timestamp: f as f64,
-                    weights: w,
-                    tracked: true,
-                    vertices: Some(
-                        (0..n)
-                            .map(|v| Vec3::splat(0.001 * (f + v) as f32))
-                            .collect(),
-                    ),
-                }
-            })
-            .collect();
-        let session = Session::new(SessionParts {
-            device: DeviceInfo::default(),
-            frame_rate: 60.0,
-            topology: Topology::new(n, vec![[0, 1, 2]]).unwrap(),
-            template: Template {
-                neutral: vec![Vec3::ZERO; n],
-                shapes: std::array::from_fn(|_| vec![Vec3::ZERO; n]),
-            },
-            neutral: neutral.iter().map(|p| p.as_vec3()).collect(),
-            frames,
-            captures: vec![],
-            tests: vec![],
-            truth: None,
-        })
-        .unwrap();
-        let deltas: Vec<Vec<DVec3>> = (0..52)
-            .map(|j| {
-                (0..n)
-                    .map(|v| DVec3::new(j as f64, v as f64, 1.0) * 1e-4)
-                    .collect()
-            })
-            .collect();
-        let shapes = Blendshapes::new(neutral.clone(), deltas).unwrap();
-        let used = [0, 1, 3];
-        let direct: f64 = used
-            .iter()
-            .map(|&f| {
-                let model = shapes.reconstruct(&session.frames[f].weights);
-                let mesh = session.frames[f].vertices.as_ref().unwrap();
-                model
-                    .iter()
-                    .zip(mesh)
-                    .map(|(p, q)| (*p - q.as_dvec3()).length_squared())
-                    .sum::<f64>()
-            })
-            .sum::<f64>()
-            / (used.len() * n) as f64;
-        let expanded = ValidationError::new(&session, &neutral, &used)
-            .mean_squared(&shapes)
-            .unwrap();
-        assert!(
-            (direct - expanded).abs() < 1e-12 * direct.max(1e-12),
-            "{direct} vs {expanded}"
-        );
-
-        // Indices past the stream are skipped; parts of another face are
-        // an error, not a panic.
-        let past = ValidationError::new(&session, &neutral, &[0, 1, 3, 4, usize::MAX]);
-        assert_eq!(past.mean_squared(&shapes), Ok(expanded));
-        let other = ValidationError::new(&session, &neutral[..2], &used);
-        assert!(matches!(
-            other.mean_squared(&shapes),
-            Err(PersonalizeError::Size {
-                expected: 2,
-                found: 3,
-                ..
-            })
-        ));
     }
 }

@@ -8,8 +8,9 @@
 //! | Eq. (3) | per-vertex regularization weights `D_j` | [`regularization_weights`] |
 //! | Eq. (1)–(2) | `E_fit + λ·E_reg`, one 52 × 52 system per vertex | [`blendshape_fit`] |
 //! | (ours) | λ chosen per session | [`lambda_selection`] |
-//! | (ours; Golub, Heath & Wahba 1979, MacKay 1992) | GCV and the evidence of λ, for every λ at O(k) per vertex | [`lambda_criteria`] |
-//! | (ours) | stream frames fitted (`multi`) or held out (λ, for comparison) | [`frame_selection`] |
+//! | (ours; Golub, Heath & Wahba 1979) | GCV of λ (and, for the study, the evidence: MacKay 1992), for every λ at O(k) per vertex | [`lambda_criteria`] |
+//! | (ours) | stream frames fitted (`multi`) | [`frame_selection`] |
+//! | (the study's, `study` feature) | λ scored on held-out stream frames | `holdout` |
 //! | §4.1, Li et al. 2010 | the EBFR baseline | [`ebfr`] |
 //! | §3.2, §4.1 | the methods, and which one the product uses | [`method`], [`personalization`] |
 //! | | why a session cannot be personalized | [`error`] |
@@ -21,6 +22,8 @@ pub mod error;
 pub mod evaluation;
 pub mod frame_selection;
 pub mod generic_blendshapes;
+#[cfg(feature = "study")]
+pub mod holdout;
 pub mod lambda_criteria;
 pub mod lambda_selection;
 pub mod method;

@@ -205,7 +205,7 @@ fn fit_with_rule(
         // ~0.3 s), which cross-validation takes for independent evidence:
         // λ is chosen on the captures alone, whose energy gives each prompt
         // the same total weight as the `multi` energy does.
-        (FitFrames::AroundPeaks, LambdaRule::Gcv | LambdaRule::Evidence) => {
+        (FitFrames::AroundPeaks, rule) if rule.scores_the_fit() => {
             let captures = assemble_fit(session, generic, FitFrames::Captures);
             choose_lambda(session, &captures, rule)?
         }

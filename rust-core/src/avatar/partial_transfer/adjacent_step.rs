@@ -35,10 +35,11 @@
 use super::lid_contacts::{LidContact, least_energy_closing};
 use crate::geometry::edge_distance::edge_distances;
 use crate::geometry::one_ring::one_rings;
+use crate::geometry::sparse_cholesky;
+use faer::Mat;
 use faer::linalg::solvers::Solve;
-use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
-use faer::sparse::{SparseColMat, Triplet};
-use faer::{Mat, Side};
+use faer::sparse::Triplet;
+use faer::sparse::linalg::solvers::Llt;
 use glam::DVec3;
 use std::collections::{BTreeSet, HashMap};
 
@@ -114,12 +115,7 @@ impl AdjacentStep {
         for i in 0..m {
             entries.push(Triplet::new(i, i, 1e-9));
         }
-        let llt = SparseColMat::<usize, f64>::try_new_from_triplets(m, m, &entries)
-            .ok()
-            .and_then(|matrix| {
-                let symbolic = SymbolicLlt::try_new(matrix.symbolic(), Side::Lower).ok()?;
-                Llt::try_new_with_symbolic(symbolic, matrix.as_ref(), Side::Lower).ok()
-            });
+        let llt = sparse_cholesky::factor(m, &entries).ok();
         AdjacentStep {
             region,
             local,

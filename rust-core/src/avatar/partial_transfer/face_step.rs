@@ -40,10 +40,11 @@
 use super::lid_contacts::{LidContact, least_energy_closing};
 use crate::avatar::registration::CorrespondenceMap;
 use crate::geometry::deformation_gradient::{RestTriangle, hat_gradients, triangle_area};
+use crate::geometry::sparse_cholesky::{self, FactorError};
+use faer::Mat;
 use faer::linalg::solvers::Solve;
-use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
-use faer::sparse::{SparseColMat, Triplet};
-use faer::{Mat, Side};
+use faer::sparse::Triplet;
+use faer::sparse::linalg::solvers::Llt;
 use glam::{DMat3, DVec3};
 use std::collections::HashMap;
 
@@ -58,7 +59,7 @@ pub enum FaceStepError {
     EmptyPatch,
     /// The patch's system could not be factored.
     #[error("the face patch's system could not be factored: {0}")]
-    Factor(String),
+    Factor(#[from] FactorError),
     /// The mask shapes do not match the map.
     #[error("the mask has {found} vertices, the correspondence map expects at least {expected}")]
     MaskSize {
@@ -164,13 +165,7 @@ impl FaceStep {
         for (v, a) in anchor.iter().enumerate() {
             entries.push(Triplet::new(v, v, *a));
         }
-        let factor = |e: String| FaceStepError::Factor(e);
-        let matrix = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &entries)
-            .map_err(|e| factor(format!("{e:?}")))?;
-        let symbolic = SymbolicLlt::try_new(matrix.symbolic(), Side::Lower)
-            .map_err(|e| factor(format!("{e:?}")))?;
-        let llt = Llt::try_new_with_symbolic(symbolic, matrix.as_ref(), Side::Lower)
-            .map_err(|e| factor(format!("{e:?}")))?;
+        let llt = sparse_cholesky::factor(n, &entries)?;
         Ok(FaceStep {
             vertices: map.face.iter().map(|f| f.vertex).collect(),
             triangles: patch,

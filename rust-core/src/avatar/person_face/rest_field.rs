@@ -29,10 +29,10 @@
 use crate::geometry::connected_components::component_vertices;
 use crate::geometry::one_ring::one_rings;
 use crate::geometry::self_intersection::intersecting_pairs;
+use crate::geometry::sparse_cholesky;
+use faer::Mat;
 use faer::linalg::solvers::Solve;
-use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
-use faer::sparse::{SparseColMat, Triplet};
-use faer::{Mat, Side};
+use faer::sparse::Triplet;
 use glam::DVec3;
 use std::collections::{BTreeSet, HashMap};
 
@@ -174,9 +174,7 @@ pub fn rest_field(
         entries.push(Triplet::new(j, j, tie));
         entries.push(Triplet::new(i.max(j), i.min(j), -tie));
     }
-    let matrix = SparseColMat::<usize, f64>::try_new_from_triplets(m, m, &entries).ok()?;
-    let symbolic = SymbolicLlt::try_new(matrix.symbolic(), Side::Lower).ok()?;
-    let llt = Llt::try_new_with_symbolic(symbolic, matrix.as_ref(), Side::Lower).ok()?;
+    let llt = sparse_cholesky::factor(m, &entries).ok()?;
     llt.solve_in_place(&mut rhs);
     let mut u = vec![DVec3::ZERO; n];
     for (i, &v) in inside.iter().enumerate() {

@@ -43,10 +43,11 @@
 //! while the mask is stiff and have faded when the fit gets fine.
 
 use crate::geometry::closest_point::TriangleGrid;
+use crate::geometry::sparse_cholesky;
+use faer::Mat;
 use faer::linalg::solvers::Solve;
-use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
-use faer::sparse::{SparseColMat, Triplet};
-use faer::{Mat, Side};
+use faer::sparse::Triplet;
+use faer::sparse::linalg::solvers::SymbolicLlt;
 use glam::DVec3;
 
 /// α of the first, stiffest stage.
@@ -309,9 +310,7 @@ struct StepSystem {
 impl StepSystem {
     fn new(n: usize, edges: Vec<(usize, usize)>) -> Option<StepSystem> {
         let entries = step_entries(n, &edges, 1.0, &vec![[0.0; 10]; n]);
-        let matrix =
-            SparseColMat::<usize, f64>::try_new_from_triplets(4 * n, 4 * n, &entries).ok()?;
-        let symbolic = SymbolicLlt::try_new(matrix.symbolic(), Side::Lower).ok()?;
+        let symbolic = sparse_cholesky::symbolic(4 * n, &entries).ok()?;
         Some(StepSystem { symbolic, edges })
     }
 }
@@ -429,9 +428,7 @@ fn solve_step(
         pull(i, beta * share, target, &mut rhs);
     }
     let entries = step_entries(n, &system.edges, alpha, &blocks);
-    let matrix = SparseColMat::<usize, f64>::try_new_from_triplets(4 * n, 4 * n, &entries).ok()?;
-    let llt =
-        Llt::try_new_with_symbolic(system.symbolic.clone(), matrix.as_ref(), Side::Lower).ok()?;
+    let llt = sparse_cholesky::factor_with(&system.symbolic, 4 * n, &entries).ok()?;
     llt.solve_in_place(&mut rhs);
     let out: Vec<DVec3> = local
         .iter()

@@ -67,12 +67,7 @@
 //! blink collapses them, and their gradients ask the target strip to collapse
 //! too. On its own that closes a target eye only roughly: `Q_t` is applied to
 //! the target's own triangle, and where the target's lids are shaped or placed
-//! differently (on simulated faces an upper-lid vertex sits up to 1.8 mm to
-//! the side of its lower-lid partner, while the template's blink moves it
-//! straight down) the collapsed strip's gradients no longer fit together.
-//! Measured on five simulated subjects, the lids stayed up to 0.5 mm apart
-//! and lid partners up to 1.8 mm; weighting the virtual triangles 10 to 10⁵
-//! times more changed that by 1%.
+//! differently the collapsed strip's gradients no longer fit together.
 //!
 //! So contacts are kept explicitly: where an eye closes in the source shape,
 //! each of its lid vertices is paired with its partner across the hole
@@ -86,22 +81,12 @@
 //! within [`CONTACT_FRACTION`] (15%) of the eye's rest opening `O₀` of the
 //! other lid, and its contacts are the virtual-triangle edges then at most
 //! `0.15 · O₀` long (shortest first, one per lid vertex). A fraction of the
-//! opening means the same on a template in metres or centimetres. The rule
-//! must see a real closed eye as closed: Apple's template leaves the lids of
-//! its eyeBlink shapes 0.4–0.6 mm apart, 4–6% of an eye about 10 mm open
-//! (the adult palpebral fissure height), and there the former rule, "the
-//! edge shrinks to 1% of its rest length", never fired and the transferred
-//! blink stayed 0.4–0.5 mm open. It must not see a narrowed eye as closed:
-//! on the simulator's template (opening 10.5 mm) only eyeBlinkLeft/Right
-//! close an eye, to 0 (or 0.5 mm, 5%, on the Apple-like variant); the
-//! narrowest eye of any other shape is eyeSquint's, at 72% of its rest
-//! opening, then eyeLookDown's at 87%. 15% sits a factor of three or more
-//! from both. It is a fraction of the eye's opening rather than of each
-//! edge's own rest length because lid pairs near the corners are short at
-//! rest (1.3 mm on the simulated mask): a gap of 0.5 mm there is 38% of the
-//! pair's own length but 5% of the eye's opening. The eye-wide test keeps
-//! those short corner pairs (13% of the opening at rest) from counting as
-//! closed in shapes that do not close the eye.
+//! opening means the same on a template in metres or centimetres, counts
+//! Apple's blinks (lids 4–6% of the opening apart) as closed and a squint
+//! (72% of the opening) as open, and keeps the short lid pairs at the
+//! corners from counting as closed at rest. How the 15% was placed, and
+//! what the plain transfer left open, is in
+//! `docs/notes/2026-12-eye-contacts.md`.
 //!
 //! When the target is the source, or a scaled copy, and the source closes
 //! exactly, the unconstrained solution already satisfies the contacts and
@@ -120,11 +105,12 @@
 //! | (ours) | the translation gradients do not see, per component | `translation.rs` |
 
 use super::deformation_gradient::{RestTriangle, hat_gradients, triangle_area};
+use super::sparse_cholesky::{self, FactorError};
 use super::topology::{GeometryError, Topology, TopologyError};
+use faer::Mat;
 use faer::linalg::solvers::Solve;
-use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
-use faer::sparse::{SparseColMat, Triplet};
-use faer::{Mat, Side};
+use faer::sparse::Triplet;
+use faer::sparse::linalg::solvers::Llt;
 use glam::{DMat3, DVec3};
 
 mod contacts;
@@ -185,7 +171,10 @@ pub enum TransferError {
         /// How many there are.
         found: usize,
     },
-    /// A sparse or dense Cholesky factorization failed.
+    /// The sparse system could not be factored.
+    #[error("the transfer's system could not be factored: {0}")]
+    Factor(#[from] FactorError),
+    /// A dense factorization failed, or a solver thread stopped.
     #[error("factorization failed: {0}")]
     Factorization(String),
 }
@@ -313,16 +302,7 @@ impl DeformationTransfer {
                 }
             }
         }
-        let matrix = SparseColMat::<usize, f64>::try_new_from_triplets(
-            unknown_count,
-            unknown_count,
-            &entries,
-        )
-        .map_err(factor_error)?;
-        let symbolic =
-            SymbolicLlt::try_new(matrix.symbolic(), Side::Lower).map_err(factor_error)?;
-        let llt = Llt::try_new_with_symbolic(symbolic, matrix.as_ref(), Side::Lower)
-            .map_err(factor_error)?;
+        let llt = sparse_cholesky::factor(unknown_count, &entries)?;
 
         let holes = contacts::hole_edges(n, &triangles, mesh_triangles);
 

@@ -1,6 +1,7 @@
 //! Criteria for the weight λ of `E_reg` computed from the fitted captures
 //! alone, with no held-out frames: generalized cross-validation (the rule
-//! `paper-cv` and `multi` use) and the marginal likelihood (evidence), and
+//! `paper-cv` and `multi` use) and, for the study, the marginal likelihood
+//! (evidence), and
 //! how both are evaluated for any λ at a cost of O(k) per vertex once each
 //! vertex's system has been reduced to tridiagonal form.
 //!
@@ -41,7 +42,7 @@
 //! numerator like `λ²`, so `V` tends to a finite value there and both are
 //! computed without cancellation (below).
 //!
-//! # The evidence (for comparison)
+//! # The evidence (the study's only, with the `study` feature)
 //!
 //! The fit is also the posterior mean of `b ~ N(t, σ²(λD²)⁻¹)`,
 //! `y | b ~ N(W b, σ² I)` (MacKay 1992, "Bayesian interpolation", Neural
@@ -160,9 +161,11 @@ impl RidgeTerms {
     }
 
     /// The profiled negative log evidence per datum, `ln σ̂² + Σ ln det K /
-    /// (N m)` (module docs; smaller is better), if `ln det K` was computed.
+    /// (N m)` (module docs; smaller is better), if `ln det K` was computed
+    /// (the study's only).
     /// `σ̂²` is in m², so the value is dominated by `ln σ̂²` ≈ −20 for
     /// tenths of a millimetre.
+    #[cfg(feature = "study")]
     pub fn evidence(&self) -> Option<f64> {
         let data = (self.coordinates * self.observations).max(1) as f64;
         Some((self.energy / data).ln() + self.log_det? / data)
@@ -253,9 +256,20 @@ impl RidgeCriteria {
         &self.vertices
     }
 
-    /// The sums at `lambda` (> 0); with `with_log_det`, also `Σ ln det K`
-    /// (for the evidence).
-    pub fn terms(&self, lambda: f64, with_log_det: bool) -> Result<RidgeTerms, PersonalizeError> {
+    /// The sums at `lambda` (> 0).
+    pub fn terms(&self, lambda: f64) -> Result<RidgeTerms, PersonalizeError> {
+        self.sums(lambda, false)
+    }
+
+    /// The sums at `lambda` (> 0) and `Σ ln det K`, for the study's
+    /// evidence.
+    #[cfg(feature = "study")]
+    pub fn terms_with_log_det(&self, lambda: f64) -> Result<RidgeTerms, PersonalizeError> {
+        self.sums(lambda, true)
+    }
+
+    /// The sums at `lambda`; with `with_log_det`, also `Σ ln det K`.
+    fn sums(&self, lambda: f64, with_log_det: bool) -> Result<RidgeTerms, PersonalizeError> {
         if let Some(mismatch) = &self.mismatch {
             return Err(mismatch.clone());
         }

@@ -84,7 +84,7 @@ pub struct AvatarResult {
     /// The GLB file's bytes.
     pub glb: Vec<u8>,
     /// The 52 × k map from ARKit's weights to the avatar's own targets
-    /// (format in the project's README, "The retarget map").
+    /// (format in the project's docs/avatar.md, "The retarget map").
     pub retarget_map_json: String,
     /// A few sentences on what was made.
     pub summary: String,

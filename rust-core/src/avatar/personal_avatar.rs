@@ -485,7 +485,7 @@ pub fn mask_glb(mask: &Topology, shapes: &Blendshapes, name: &Path) -> Result<Ve
     new_avatar_glb(&avatar, &options, name)
 }
 
-/// The retarget map's file format (README "The retarget map").
+/// The retarget map's file format (docs/avatar.md, "The retarget map").
 #[derive(Serialize)]
 struct RetargetMapFile<'a> {
     format: &'static str,
@@ -514,7 +514,7 @@ struct MapMorphTarget<'a> {
     index: usize,
 }
 
-/// The 52 × k weights of Eq. (4) as the JSON of the README's "The
+/// The 52 × k weights of Eq. (4) as the JSON of docs/avatar.md's "The
 /// retarget map", for engines that drive the avatar's own shapes.
 pub fn retarget_map_json(glb: &GlbAvatar, r: &Retargeting) -> String {
     let file = RetargetMapFile {

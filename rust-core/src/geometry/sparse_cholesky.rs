@@ -1,12 +1,13 @@
-//! The sparse Cholesky factorization `A = L Lᵀ` (faer's supernodal LLᵀ)
-//! that every linear system of the geometry and the avatar stage is solved
-//! with: deformation transfer, both steps of the partial transfer, the
-//! non-rigid registration, the mask pulled onto the skin and the person's
-//! rest field. Each builds the lower triangle of a symmetric positive
-//! definite `n × n` matrix as triplets (duplicates are summed) and factors
-//! it once; a solve is then two triangular sweeps per right-hand side.
-//! Where the values change but the sparsity does not (the registration's
-//! steps), the symbolic analysis is done once ([`symbolic`]) and reused
+//! The sparse Cholesky factorization `A = L Lᵀ` (faer's sparse LLᵀ,
+//! simplicial or supernodal as the sparsity suits) that every linear system
+//! of the geometry and the avatar stage is solved with: deformation
+//! transfer, both steps of the partial transfer, the non-rigid
+//! registration, the mask pulled onto the skin and the person's rest field.
+//! Each builds the lower triangle of a symmetric positive definite `n × n`
+//! matrix as triplets (duplicates are summed) and factors it once; a solve
+//! is then two triangular sweeps per right-hand side. Where the values
+//! change but the sparsity does not (the registration's steps), the
+//! symbolic analysis is done once ([`symbolic`]) and reused
 //! ([`factor_with`]).
 
 use faer::Side;

@@ -13,12 +13,12 @@
 //! of the parts' triangles). A bi-Laplacian system needs two rings of
 //! boundary values for its solution to join its surroundings with a
 //! continuous slope (`Δᵏ` with `k` rings gives `C^{k−1}`: Botsch & Sorkine
-//! 2008, "On linear variational surface deformation methods"): the face's ring makes `C` leave the face with
-//! the face's own slope, not only its position, and the ring beyond makes
-//! it reach zero at the margin with zero slope. Without the outer ring `C`
-//! ran down to zero at a slant and stopped there: on ICT-FaceKit, a person's
-//! jawOpen folded the skin under the chin by 39° along the margin. With `R`
-//! those rows and `F` the face,
+//! 2008, "On linear variational surface deformation methods"): the face's
+//! ring makes `C` leave the face with the face's own slope, not only its
+//! position, and the ring beyond makes it reach zero at the margin with
+//! zero slope. Without the outer ring `C` ran down to zero at a slant and
+//! stopped there: on ICT-FaceKit, a person's jawOpen folded the skin under
+//! the chin by 39° along the margin. With `R` those rows and `F` the face,
 //!
 //! ```text
 //! (L_RNᵀ L_RN) C_N = − L_RNᵀ L_RF C_F.

@@ -17,7 +17,7 @@
 
 use super::mask_holes::{boundary_edges, mouth_rim};
 use glam::DVec3;
-use std::collections::{HashMap, HashSet};
+use std::collections::{BTreeSet, HashMap, HashSet};
 
 /// How many rings of mask vertices around the slit carry a lip: the
 /// vermilion's height (about 8–10 mm) in the mask's 2–3 mm rings.
@@ -49,7 +49,7 @@ impl LipSides {
         positions: &[DVec3],
         triangles: &[[u32; 3]],
         boundary: &HashSet<(u32, u32)>,
-        slit: &HashSet<u32>,
+        slit: &BTreeSet<u32>,
     ) -> LipSides {
         let on_slit = chains(positions, boundary, slit);
         let mut neighbours: HashMap<u32, Vec<u32>> = HashMap::new();
@@ -108,7 +108,7 @@ impl LipSides {
 fn chains(
     positions: &[DVec3],
     boundary: &HashSet<(u32, u32)>,
-    slit: &HashSet<u32>,
+    slit: &BTreeSet<u32>,
 ) -> HashMap<u32, u8> {
     let at = |v: u32| positions.get(v as usize).copied().unwrap_or_default();
     let mut next: HashMap<u32, Vec<u32>> = HashMap::new();
@@ -183,7 +183,7 @@ mod tests {
         let (p, t) = slit();
         // The fixture's slit touches its outline at the corners, so it is
         // named rather than found.
-        let slit: HashSet<u32> = [0, 1, 2, 3, 4, 5, 6, 7].into();
+        let slit: BTreeSet<u32> = [0, 1, 2, 3, 4, 5, 6, 7].into();
         let sides = LipSides::new(&p, &t, &boundary_edges(&t), &slit);
         let (upper, lower) = ([1, 2, 10], [5, 14, 15]);
         let (u, l) = (sides.slit_triangle(upper), sides.slit_triangle(lower));

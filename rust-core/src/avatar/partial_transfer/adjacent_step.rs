@@ -32,10 +32,10 @@
 //! reached an open edge of the mesh (a neck's cut), `C` ran on to it
 //! unchecked, and ICT-FaceKit's neck moved 16 mm in `jawOpen`.
 
-use super::lid_contacts::{LidContact, least_energy_closing};
+use super::lid_contacts::{LidClosingError, LidContact, least_energy_closing};
 use crate::geometry::edge_distance::edge_distances;
 use crate::geometry::one_ring::one_rings;
-use crate::geometry::sparse_cholesky;
+use crate::geometry::sparse_cholesky::{self, FactorError};
 use faer::Mat;
 use faer::linalg::solvers::Solve;
 use faer::sparse::Triplet;
@@ -63,8 +63,13 @@ pub struct AdjacentStep {
 impl AdjacentStep {
     /// Prepares `N` (module docs) from the parts' `triangles` (avatar
     /// indices), the face vertices `face` and `near` (whether a vertex is
-    /// within the blend margin of the face), all indexed by avatar vertex.
-    pub fn new(triangles: &[[u32; 3]], face: &[bool], near: &[bool]) -> AdjacentStep {
+    /// within the blend margin of the face), all indexed by avatar vertex,
+    /// and factors its system.
+    pub fn new(
+        triangles: &[[u32; 3]],
+        face: &[bool],
+        near: &[bool],
+    ) -> Result<AdjacentStep, FactorError> {
         let n = face.len().min(near.len());
         let neighbours = one_rings(n, triangles);
         let region: Vec<u32> = (0..n as u32)
@@ -115,13 +120,16 @@ impl AdjacentStep {
         for i in 0..m {
             entries.push(Triplet::new(i, i, 1e-9));
         }
-        let llt = sparse_cholesky::factor(m, &entries).ok();
-        AdjacentStep {
+        let llt = match m {
+            0 => None,
+            _ => Some(sparse_cholesky::factor(m, &entries)?),
+        };
+        Ok(AdjacentStep {
             region,
             local,
             rows,
             llt,
-        }
+        })
     }
 
     /// The avatar vertices of `N`.
@@ -131,11 +139,10 @@ impl AdjacentStep {
 
     /// Completes each shape's displacement `full[j]` (all avatar vertices:
     /// `A_j` everywhere but the face, the face step's result there) on `N`:
-    /// `A_j + C` (module docs). `retargeted[j]` is `A_j`. Returns whether
-    /// the system could be solved (nothing is changed otherwise).
-    pub fn complete(&self, full: &mut [Vec<DVec3>], retargeted: &[Vec<DVec3>]) -> bool {
+    /// `A_j + C` (module docs). `retargeted[j]` is `A_j`.
+    pub fn complete(&self, full: &mut [Vec<DVec3>], retargeted: &[Vec<DVec3>]) {
         let Some(llt) = &self.llt else {
-            return self.region.is_empty();
+            return;
         };
         let m = self.region.len();
         let shapes = full.len().min(retargeted.len());
@@ -166,7 +173,6 @@ impl AdjacentStep {
                 }
             }
         }
-        true
     }
 
     /// Closes the lid `contacts` in one completed shape `d` (displacements
@@ -174,11 +180,16 @@ impl AdjacentStep {
     /// correction `C` on `N` of least bending `ΔCᵀ K ΔC`, `K = L_RNᵀ L_RN`
     /// the matrix above, that meets them
     /// ([`super::lid_contacts::least_energy_closing`]; a contact moves
-    /// whichever of its vertices are in `N`). Returns whether the
-    /// system could be solved (nothing is changed otherwise).
-    pub fn close(&self, rest: &[DVec3], d: &mut [DVec3], contacts: &[LidContact]) -> bool {
+    /// whichever of its vertices are in `N`). Nothing is changed on an
+    /// error.
+    pub fn close(
+        &self,
+        rest: &[DVec3],
+        d: &mut [DVec3],
+        contacts: &[LidContact],
+    ) -> Result<(), LidClosingError> {
         let Some(llt) = &self.llt else {
-            return true;
+            return Ok(());
         };
         let change = least_energy_closing(
             llt,
@@ -186,16 +197,13 @@ impl AdjacentStep {
             |v| self.local.get(&v).copied(),
             |v| Some(*rest.get(v as usize)? + *d.get(v as usize)?),
             contacts,
-        );
-        let Some(change) = change else {
-            return false;
-        };
+        )?;
         for (i, delta) in change {
             if let Some(x) = self.region.get(i).and_then(|&v| d.get_mut(v as usize)) {
                 *x += delta;
             }
         }
-        true
+        Ok(())
     }
 }
 
@@ -239,7 +247,7 @@ mod tests {
         let n = columns * rows;
         let face: Vec<bool> = (0..n).map(|v| v % columns <= 5).collect();
         let near: Vec<bool> = (0..n).map(|v| v % columns <= 25).collect();
-        let step = AdjacentStep::new(&strip(columns, rows), &face, &near);
+        let step = AdjacentStep::new(&strip(columns, rows), &face, &near).unwrap();
         assert_eq!(step.region().len(), 20 * rows);
         let one = DVec3::new(0.0, 0.0, 1.0);
         let mut full = vec![
@@ -247,7 +255,7 @@ mod tests {
                 .map(|v| if face[v] { one } else { DVec3::ZERO })
                 .collect(),
         ];
-        assert!(step.complete(&mut full, &[vec![DVec3::ZERO; n]]));
+        step.complete(&mut full, &[vec![DVec3::ZERO; n]]);
         let middle = rows / 2 * columns;
         let c: Vec<f64> = (0..columns).map(|i| full[0][middle + i].z).collect();
         assert!(

@@ -37,7 +37,7 @@
 //! the avatar keeps its face's proportions and detail while moving as the
 //! person's mask does.
 
-use super::lid_contacts::{LidContact, least_energy_closing};
+use super::lid_contacts::{LidClosingError, LidContact, least_energy_closing};
 use crate::avatar::registration::CorrespondenceMap;
 use crate::geometry::deformation_gradient::{RestTriangle, hat_gradients, triangle_area};
 use crate::geometry::sparse_cholesky::{self, FactorError};
@@ -284,15 +284,15 @@ impl FaceStep {
     /// the shape's displacement of every avatar vertex, taken where the
     /// patch does not reach): the change of least energy under this step's
     /// matrix that meets them
-    /// ([`super::lid_contacts::least_energy_closing`]). Returns whether the
-    /// system could be solved (nothing is changed otherwise).
+    /// ([`super::lid_contacts::least_energy_closing`]). Nothing is changed
+    /// on an error.
     pub fn close(
         &self,
         rest: &[DVec3],
         beyond: &[DVec3],
         d: &mut [DVec3],
         contacts: &[LidContact],
-    ) -> bool {
+    ) -> Result<(), LidClosingError> {
         let index = |v: u32| self.index(v);
         let at = |v: u32| {
             let moved = match index(v) {
@@ -301,15 +301,12 @@ impl FaceStep {
             };
             Some(*rest.get(v as usize)? + *moved)
         };
-        let change = least_energy_closing(&self.llt, self.vertices.len(), index, at, contacts);
-        let Some(change) = change else {
-            return false;
-        };
+        let change = least_energy_closing(&self.llt, self.vertices.len(), index, at, contacts)?;
         for (i, delta) in change {
             if let Some(x) = d.get_mut(i) {
                 *x += delta;
             }
         }
-        true
+        Ok(())
     }
 }

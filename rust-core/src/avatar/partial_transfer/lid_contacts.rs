@@ -301,6 +301,16 @@ pub fn contacts(opening: &EyeOpening, at: impl Fn(u32) -> Option<DVec3>) -> Vec<
 /// zero (contacts that repeat others).
 pub const RANK_TOLERANCE: f64 = 1e-10;
 
+/// Why a closed eye's lids could not be made to meet: the contacts'
+/// small dense system `G Y` ([`least_energy_closing`]) had no
+/// eigendecomposition (a NaN in the shapes reaches it).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("the {contacts} lid contacts' system has no eigendecomposition")]
+pub struct LidClosingError {
+    /// Contacts in the system.
+    pub contacts: usize,
+}
+
 /// The change `Δz` of least `ΔzᵀKΔz` that closes `contacts` (module docs):
 /// with `G` the contacts' rows on the unknowns and `e` their present gaps,
 ///
@@ -313,15 +323,14 @@ pub const RANK_TOLERANCE: f64 = 1e-10;
 /// pseudo-inverse where contacts repeat one another). `index(v)` is avatar
 /// vertex `v`'s unknown (`None`: fixed), `at(v)` its present position. A
 /// contact of fixed vertices only, or with a position unknown, is left
-/// out. `None` if the eigendecomposition fails; `Some(empty)` if no
-/// contact applies.
+/// out; with no contact left the change is empty.
 pub fn least_energy_closing(
     llt: &Llt<usize, f64>,
     unknowns: usize,
     index: impl Fn(u32) -> Option<usize>,
     at: impl Fn(u32) -> Option<DVec3>,
     contacts: &[LidContact],
-) -> Option<Vec<(usize, DVec3)>> {
+) -> Result<Vec<(usize, DVec3)>, LidClosingError> {
     let mut rows: Vec<Vec<(usize, f64)>> = Vec::new();
     let mut gaps: Vec<DVec3> = Vec::new();
     for c in contacts {
@@ -341,7 +350,7 @@ pub fn least_energy_closing(
     }
     let k = rows.len();
     if k == 0 {
-        return Some(Vec::new());
+        return Ok(Vec::new());
     }
     // Indexing: every row entry is an unknown below `unknowns`.
     let mut y = Mat::<f64>::zeros(unknowns, k);
@@ -358,7 +367,9 @@ pub fn least_energy_closing(
     // vertices paired with one free segment): its pseudo-inverse, over the
     // eigenvalues above a relative `RANK_TOLERANCE`, meets what can be met
     // and moves nothing along the repeated directions.
-    let eigen = s.self_adjoint_eigen(Side::Lower).ok()?;
+    let eigen = s
+        .self_adjoint_eigen(Side::Lower)
+        .map_err(|_| LidClosingError { contacts: k })?;
     let (values, vectors) = (eigen.S(), eigen.U());
     let largest = (0..k).map(|i| values[i].abs()).fold(0.0, f64::max);
     let e = Mat::<f64>::from_fn(k, 3, |r, axis| gaps[r][axis]);
@@ -375,17 +386,15 @@ pub fn least_energy_closing(
     }
     let lambda = vectors * &projected;
     let change = &y * &lambda;
-    Some(
-        (0..unknowns)
-            .map(|i| {
-                (
-                    i,
-                    -DVec3::new(change[(i, 0)], change[(i, 1)], change[(i, 2)]),
-                )
-            })
-            .filter(|(_, d)| *d != DVec3::ZERO)
-            .collect(),
-    )
+    Ok((0..unknowns)
+        .map(|i| {
+            (
+                i,
+                -DVec3::new(change[(i, 0)], change[(i, 1)], change[(i, 2)]),
+            )
+        })
+        .filter(|(_, d)| *d != DVec3::ZERO)
+        .collect())
 }
 
 /// Rounds of pairing and closing per shape: each round pairs the lid
@@ -470,13 +479,13 @@ impl ClosingEyes {
 
     /// Closes, in every shape's `data[j]`, the eyes it closes: [`ROUNDS`]
     /// times, pairs from `at(j, data, v)` (`None`: not known there), then
-    /// `close(j, data, contacts)`. Returns `false` as soon as a `close` does.
+    /// `close(j, data, contacts)`. Stops at the first `close` that fails.
     pub fn close_all<D>(
         &self,
         data: &mut [D],
         at: impl Fn(usize, &D, u32) -> Option<DVec3>,
-        close: impl Fn(usize, &mut D, &[LidContact]) -> bool,
-    ) -> bool {
+        close: impl Fn(usize, &mut D, &[LidContact]) -> Result<(), LidClosingError>,
+    ) -> Result<(), LidClosingError> {
         for (j, d) in data.iter_mut().enumerate() {
             let openings = self.of(j);
             if openings.is_empty() {
@@ -487,11 +496,9 @@ impl ClosingEyes {
                     .iter()
                     .flat_map(|o| contacts(o, |v| at(j, d, v)))
                     .collect();
-                if !close(j, d, &contacts) {
-                    return false;
-                }
+                close(j, d, &contacts)?;
             }
         }
-        true
+        Ok(())
     }
 }

@@ -51,13 +51,14 @@ use super::registration::FaceRegistration;
 use super::registration::find_face::arkit_displacement;
 use super::retargeting::{NegligibleLength, RetargetError, Retargeting, mapped_shapes};
 use crate::arkit::{Blendshape, Blendshapes};
+use crate::geometry::sparse_cholesky::FactorError;
 use crate::personalize::blendshape_fit::{in_parallel_chunks, in_parallel_ranges};
 use adjacent_step::AdjacentStep;
 use closed_lids::ClosedLids;
 use eyelid_repair::{Eyeball, LID_OFFSET_MM, NEAR_MM, repair_eyelids};
 use face_step::{FaceStep, FaceStepError};
 use glam::{DVec3, Vec3};
-use lid_contacts::ClosingEyes;
+use lid_contacts::{ClosingEyes, LidClosingError};
 use rigid_parts::make_rigid;
 use stay_put::{FADE_MM, STILL_MM, StillFade};
 
@@ -69,18 +70,25 @@ use stay_put::{FADE_MM, STILL_MM, StillFade};
 /// ([`adjacent_step`]).
 pub const BLEND_MARGIN_MM: f64 = 30.0;
 
-/// Why the shapes could not be implanted.
+/// Why the shapes could not be implanted, by the step that failed.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum ImplantError {
-    /// Step 1 failed.
-    #[error("face step: {0}")]
-    Face(#[from] FaceStepError),
     /// The personalized shapes do not fit the registration.
     #[error(transparent)]
     Mask(#[from] RetargetError),
-    /// Step 2's system could not be solved.
-    #[error("the region next to the face could not be solved")]
-    Adjacent,
+    /// Step 1, the face patch, failed.
+    #[error("face step: {0}")]
+    Face(#[from] FaceStepError),
+    /// A closed eye's lids could not be made to meet on the face patch.
+    #[error("closing the lids on the face: {0}")]
+    FaceLids(LidClosingError),
+    /// Step 2's system, the region next to the face, could not be factored.
+    #[error("the region next to the face: {0}")]
+    Adjacent(FactorError),
+    /// A closed eye's lids could not be made to meet in the region next to
+    /// the face.
+    #[error("closing the lids next to the face: {0}")]
+    AdjacentLids(LidClosingError),
 }
 
 /// The person's 52 shapes on the avatar, and what each step covered.
@@ -117,7 +125,8 @@ pub struct Implanted {
 /// Implants `personalized` (the person's neutral `B₀` and 52 deltas, mask
 /// topology `mask_triangles`) into `avatar` found by `registration`, with
 /// `retargeting` (Eq. 4 of the same shapes) for what the mask does not
-/// cover (module docs).
+/// cover (module docs): the steps below, in order, each on what the one
+/// before left.
 pub fn implant(
     avatar: &Avatar,
     registration: &FaceRegistration,
@@ -125,35 +134,139 @@ pub fn implant(
     personalized: &Blendshapes,
     mask_triangles: &[[u32; 3]],
 ) -> Result<Implanted, ImplantError> {
-    let positions: Vec<DVec3> = avatar.positions().iter().map(|p| p.as_dvec3()).collect();
-    let offsets = avatar.vertex_offsets();
-    let face_part_triangles = face_part_triangles(avatar, registration);
-    let retargeted: Vec<Vec<DVec3>> = retargeting
-        .displacements(avatar)
-        .into_iter()
-        .map(|d| d.into_iter().map(|x| x.as_dvec3()).collect())
-        .collect();
-    // The avatar's own ARKit shapes, in Apple's order (`None` where it
-    // lacks one), read once.
-    let own_shapes: Vec<Option<Vec<DVec3>>> = Blendshape::ALL
-        .iter()
-        .map(|b| arkit_displacement(avatar, *b))
-        .collect();
-
-    // Step 1.
-    let face = FaceStep::new(&positions, &face_part_triangles, &registration.map)?;
+    let scene = Scene::new(avatar, registration, retargeting);
     let mapped = mapped_shapes(registration, personalized)?;
-    // The person's deviation from `A_j` as the mask sees it, `B_j − S(A_j)`,
-    // is what step 1 carries; `A_j` itself is added at the avatar's own
-    // resolution (module docs).
-    let on_skin = MaskOnSkin::new(registration, &positions, &face_part_triangles);
-    let s = registration.similarity;
-    let seen: Vec<Vec<DVec3>> = retargeted.iter().map(|a| on_skin.see(a)).collect();
+    let on_skin = MaskOnSkin::new(registration, &scene.positions, &scene.skin_triangles);
+    let closing = ClosingEyes::new(
+        &scene.positions,
+        &scene.skin_triangles,
+        registration,
+        personalized,
+        mask_triangles,
+    );
+    let person = Person {
+        shapes: personalized,
+        mask_triangles,
+        mapped: &mapped,
+    };
+    let face = FaceStep::new(&scene.positions, &scene.skin_triangles, &registration.map)?;
+    let mut on_face = face_step(&scene, &face, &on_skin, &person)?;
+    close_lids_on_face(&scene, &face, &closing, &mut on_face).map_err(ImplantError::FaceLids)?;
+    let mut full = beyond_the_face(&scene, &face, on_face);
+    let adjacent = adjacent_step(&scene, &face, &mut full).map_err(ImplantError::Adjacent)?;
+    close_lids_next_to_face(&scene, &adjacent, &closing, &mut full)
+        .map_err(ImplantError::AdjacentLids)?;
+    let closed_lids = ClosedLids::new(
+        &scene.own_shapes,
+        (&scene.positions, &scene.in_face_parts, scene.to_avatar),
+        &on_skin,
+        personalized,
+        (mask_triangles, closing.found()),
+    );
+    closed_lids.apply(&mut full);
+    let still_faded = stay_put_step(&scene, &mapped, &mut full);
+    let (rigid_pieces, rigid_deviation_removed) = hold_rigid_pieces(&scene, &mut full);
+    let lids_repaired = repair_lids(&scene, &mut full);
+    // Invisible displacements written as zero, as for `A_j`.
+    let cut = NegligibleLength::of(scene.positions.iter().copied());
+    Ok(Implanted {
+        shapes: full
+            .into_iter()
+            .map(|d| d.into_iter().map(|x| cut.written(x)).collect())
+            .collect(),
+        face_vertices: face.vertices().len(),
+        adjacent_vertices: adjacent.region().len(),
+        still_faded,
+        lids_repaired,
+        lids_closed: closing.count(),
+        own_lids: closed_lids.count(),
+        rigid_parts: rigid_parts::wholly_rigid_parts(avatar, &rigid_pieces),
+        rigid_pieces,
+        rigid_deviation_removed,
+    })
+}
+
+/// What every step reads of the avatar: its rest positions in double
+/// precision, the triangles of the parts that hold the face, `A_j`, and
+/// its own ARKit shapes.
+struct Scene<'a> {
+    avatar: &'a Avatar,
+    registration: &'a FaceRegistration,
+    /// Every vertex at rest ([`Avatar::positions`]).
+    positions: Vec<DVec3>,
+    /// The triangles of the parts the face was found on, avatar indices.
+    skin_triangles: Vec<[u32; 3]>,
+    /// Whether each vertex lies in a part the face was found on.
+    in_face_parts: Vec<bool>,
+    /// `A_j` for each ARKit shape (Apple's order), every vertex.
+    retargeted: Vec<Vec<DVec3>>,
+    /// The avatar's own ARKit shapes, Apple's order; `None` where it lacks
+    /// one.
+    own_shapes: Vec<Option<Vec<DVec3>>>,
+    /// Avatar units per metre of the mask: a length in mm at the mask's
+    /// scale times this / 1000 is one in the avatar's units.
+    to_avatar: f64,
+}
+
+impl<'a> Scene<'a> {
+    fn new(
+        avatar: &'a Avatar,
+        registration: &'a FaceRegistration,
+        retargeting: &Retargeting,
+    ) -> Scene<'a> {
+        let positions: Vec<DVec3> = avatar.positions().iter().map(|p| p.as_dvec3()).collect();
+        let offsets = avatar.vertex_offsets();
+        let mut in_face_parts = vec![false; positions.len()];
+        for &i in &registration.face_parts {
+            if i + 1 < offsets.len() {
+                in_face_parts[offsets[i]..offsets[i + 1]].fill(true);
+            }
+        }
+        Scene {
+            avatar,
+            registration,
+            skin_triangles: face_part_triangles(avatar, registration),
+            in_face_parts,
+            retargeted: retargeting
+                .displacements(avatar)
+                .into_iter()
+                .map(|d| d.into_iter().map(|x| x.as_dvec3()).collect())
+                .collect(),
+            own_shapes: Blendshape::ALL
+                .iter()
+                .map(|b| arkit_displacement(avatar, *b))
+                .collect(),
+            to_avatar: registration.similarity.scale / 1000.0,
+            positions,
+        }
+    }
+}
+
+/// The person's side: their shapes on the mask, its triangles, and the
+/// shapes mapped onto the avatar's face vertices through `M`.
+struct Person<'a> {
+    shapes: &'a Blendshapes,
+    mask_triangles: &'a [[u32; 3]],
+    mapped: &'a [Vec<DVec3>],
+}
+
+/// Step 1: each shape's displacement of the face patch,
+/// `D_j = A_j + T(B_j − S(A_j))` (module docs), in the patch's vertex
+/// order ([`FaceStep::vertices`]).
+fn face_step(
+    scene: &Scene,
+    face: &FaceStep,
+    on_skin: &MaskOnSkin,
+    person: &Person,
+) -> Result<Vec<Vec<DVec3>>, FaceStepError> {
+    let s = scene.registration.similarity;
+    let seen: Vec<Vec<DVec3>> = scene.retargeted.iter().map(|a| on_skin.see(a)).collect();
     let deviation: Vec<Vec<DVec3>> = Blendshape::ALL
         .iter()
         .zip(&seen)
         .map(|(b, seen)| {
-            personalized
+            person
+                .shapes
                 .delta(*b)
                 .iter()
                 .zip(seen)
@@ -161,54 +274,62 @@ pub fn implant(
                 .collect()
         })
         .collect();
-    let deviation_mapped: Vec<Vec<DVec3>> = mapped
+    let deviation_mapped: Vec<Vec<DVec3>> = person
+        .mapped
         .iter()
         .zip(&seen)
         .map(|(m, seen)| {
             m.iter()
-                .zip(registration.map.apply(seen))
+                .zip(scene.registration.map.apply(seen))
                 .map(|(m, a)| *m - a)
                 .collect()
         })
         .collect();
     let deltas: Vec<&[DVec3]> = deviation.iter().map(|d| d.as_slice()).collect();
     let mut on_face = face.transfer(
-        personalized.neutral(),
+        person.shapes.neutral(),
         &deltas,
-        mask_triangles,
+        person.mask_triangles,
         s.rotation,
         &deviation_mapped,
     )?;
-    for (shape, a) in on_face.iter_mut().zip(&retargeted) {
+    for (shape, a) in on_face.iter_mut().zip(&scene.retargeted) {
         for (d, &v) in shape.iter_mut().zip(face.vertices()) {
             *d += a.get(v as usize).copied().unwrap_or(DVec3::ZERO);
         }
     }
-    // Eyes the person closes, closed on the face patch.
-    let closing = ClosingEyes::new(
-        &positions,
-        &face_part_triangles,
-        registration,
-        personalized,
-        mask_triangles,
-    );
-    // Beyond the patch, `A_j` stands in for what step 2 will make.
-    let patch_at = |j: usize, d: &Vec<DVec3>, v: u32| {
+    Ok(on_face)
+}
+
+/// The eyes the person closes, closed on the face patch `on_face` (step
+/// 1's result; [`lid_contacts`]): beyond the patch `A_j` stands in for
+/// what step 2 will make.
+fn close_lids_on_face(
+    scene: &Scene,
+    face: &FaceStep,
+    closing: &ClosingEyes,
+    on_face: &mut [Vec<DVec3>],
+) -> Result<(), LidClosingError> {
+    let (positions, retargeted) = (&scene.positions, &scene.retargeted);
+    let at = |j: usize, d: &Vec<DVec3>, v: u32| {
         let moved = match face.index(v) {
             Some(i) => d.get(i)?,
             None => retargeted.get(j)?.get(v as usize)?,
         };
         Some(positions[v as usize] + *moved)
     };
-    let patch_close = |j: usize, d: &mut Vec<DVec3>, c: &[lid_contacts::LidContact]| {
-        retargeted
-            .get(j)
-            .is_some_and(|beyond| face.close(&positions, beyond, d, c))
-    };
-    if !closing.close_all(&mut on_face, patch_at, patch_close) {
-        return Err(ImplantError::Adjacent);
-    }
-    let mut full = retargeted.clone();
+    let close =
+        |j: usize, d: &mut Vec<DVec3>, c: &[lid_contacts::LidContact]| match retargeted.get(j) {
+            Some(beyond) => face.close(positions, beyond, d, c),
+            None => Ok(()),
+        };
+    closing.close_all(on_face, at, close)
+}
+
+/// Every vertex's displacement for each shape: step 1's `on_face` on the
+/// face patch, `A_j` everywhere else (until step 2).
+fn beyond_the_face(scene: &Scene, face: &FaceStep, on_face: Vec<Vec<DVec3>>) -> Vec<Vec<DVec3>> {
+    let mut full = scene.retargeted.clone();
     for (j, shape) in on_face.iter().enumerate() {
         for (&v, d) in face.vertices().iter().zip(shape) {
             if let Some(x) = full[j].get_mut(v as usize) {
@@ -216,78 +337,78 @@ pub fn implant(
             }
         }
     }
+    full
+}
 
-    // Step 2, on the parts that hold the face.
-    let n = positions.len();
+/// Step 2: the skin of the face parts within [`BLEND_MARGIN_MM`] of the
+/// face patch, completed in every shape of `full` as `A_j + C`
+/// ([`adjacent_step`]).
+fn adjacent_step(
+    scene: &Scene,
+    face: &FaceStep,
+    full: &mut [Vec<DVec3>],
+) -> Result<AdjacentStep, FactorError> {
+    let n = scene.positions.len();
     let mut is_face = vec![false; n];
     for &v in face.vertices() {
         if let Some(f) = is_face.get_mut(v as usize) {
             *f = true;
         }
     }
-    let mut in_face_parts = vec![false; n];
-    for &i in &registration.face_parts {
-        if i + 1 < offsets.len() {
-            in_face_parts[offsets[i]..offsets[i + 1]]
-                .iter_mut()
-                .for_each(|x| *x = true);
-        }
-    }
     let margin = adjacent_step::within(
-        &positions,
-        &face_part_triangles,
+        &scene.positions,
+        &scene.skin_triangles,
         &is_face,
-        BLEND_MARGIN_MM * registration.similarity.scale / 1000.0,
+        BLEND_MARGIN_MM * scene.registration.similarity.scale / 1000.0,
     );
-    let near: Vec<bool> = (0..n).map(|v| in_face_parts[v] && margin[v]).collect();
-    let adjacent = AdjacentStep::new(&face_part_triangles, &is_face, &near);
-    if !adjacent.complete(&mut full, &retargeted) {
-        return Err(ImplantError::Adjacent);
-    }
-    // And on the region next to it, for lid vertices there.
-    let full_at =
-        |_: usize, d: &Vec<DVec3>, v: u32| Some(positions[v as usize] + *d.get(v as usize)?);
-    let full_close = |_: usize, d: &mut Vec<DVec3>, c: &[lid_contacts::LidContact]| {
-        adjacent.close(&positions, d, c)
+    let near: Vec<bool> = (0..n)
+        .map(|v| scene.in_face_parts[v] && margin[v])
+        .collect();
+    let adjacent = AdjacentStep::new(&scene.skin_triangles, &is_face, &near)?;
+    adjacent.complete(full, &scene.retargeted);
+    Ok(adjacent)
+}
+
+/// The eyes the person closes, closed again for lid vertices in step 2's
+/// region ([`AdjacentStep::close`]).
+fn close_lids_next_to_face(
+    scene: &Scene,
+    adjacent: &AdjacentStep,
+    closing: &ClosingEyes,
+    full: &mut [Vec<DVec3>],
+) -> Result<(), LidClosingError> {
+    let positions = &scene.positions;
+    let at = |_: usize, d: &Vec<DVec3>, v: u32| Some(positions[v as usize] + *d.get(v as usize)?);
+    let close = |_: usize, d: &mut Vec<DVec3>, c: &[lid_contacts::LidContact]| {
+        adjacent.close(positions, d, c)
     };
-    if !closing.close_all(&mut full, full_at, full_close) {
-        return Err(ImplantError::Adjacent);
-    }
-    // A closed eye whose opening the contacts cannot find closes the
-    // avatar's way.
-    let closed_lids = ClosedLids::new(
-        &own_shapes,
-        (
-            &positions,
-            &in_face_parts,
-            registration.similarity.scale / 1000.0,
-        ),
-        &on_skin,
-        personalized,
-        (mask_triangles, closing.found()),
+    closing.close_all(full, at, close)
+}
+
+/// What neither the person, the avatar's own target nor `A_j` moves stays
+/// put ([`stay_put`]); returns how many displacements were faded. The
+/// shapes are independent, so they are shared out between the cores.
+fn stay_put_step(scene: &Scene, mapped: &[Vec<DVec3>], full: &mut Vec<Vec<DVec3>>) -> usize {
+    let n = scene.positions.len();
+    let still = STILL_MM * scene.to_avatar;
+    let fading = StillFade::new(
+        &scene.positions,
+        &scene.skin_triangles,
+        FADE_MM * scene.to_avatar,
     );
-    closed_lids.apply(&mut full);
-    // What neither the person, the avatar's own target nor `A_j` moves
-    // stays put.
-    let to_avatar = registration.similarity.scale / 1000.0;
-    let person_moves = mapped;
-    let still = STILL_MM * to_avatar;
-    let fading = StillFade::new(&positions, &face_part_triangles, FADE_MM * to_avatar);
-    // Shape `j` faded (module docs of `stay_put`); the shapes are
-    // independent, so they are shared out between the cores.
     let fade = |j: usize| -> (Vec<DVec3>, usize) {
         let mut moving = vec![false; n];
-        for (f, m) in registration.map.face.iter().zip(&person_moves[j]) {
+        for (f, m) in scene.registration.map.face.iter().zip(&mapped[j]) {
             if m.length() > still {
                 moving[f.vertex as usize] = true;
             }
         }
-        if let Some(own) = &own_shapes[j] {
+        if let Some(own) = &scene.own_shapes[j] {
             for (x, o) in moving.iter_mut().zip(own) {
                 *x |= *o != DVec3::ZERO;
             }
         }
-        for (x, a) in moving.iter_mut().zip(&retargeted[j]) {
+        for (x, a) in moving.iter_mut().zip(&scene.retargeted[j]) {
             *x |= a.length() > still;
         }
         let mut d = full[j].clone();
@@ -304,76 +425,75 @@ pub fn implant(
         // reaches the caller.
         None => fade_range(0..full.len()),
     };
-    let faded = faded_shapes
-        .iter()
-        .map(|(_, changed)| changed)
-        .sum::<usize>();
-    full = faded_shapes.into_iter().map(|(d, _)| d).collect();
-    // Rigid pieces: each connected component outside the face parts that
-    // every own target moves rigidly (an eyeball; each tooth, or a
-    // teeth-and-gums arch, in a mesh that holds both jaws), held rigid.
-    let own = avatar.moving_target_displacements();
-    let pieces = rigid_parts::rigid_pieces(avatar, &positions, &own, &registration.face_parts);
-    let rigid_deviation_removed: Vec<f64> = pieces
+    let faded = faded_shapes.iter().map(|(_, changed)| changed).sum();
+    *full = faded_shapes.into_iter().map(|(d, _)| d).collect();
+    faded
+}
+
+/// Rigid pieces: each connected component outside the face parts that
+/// every own target moves rigidly (an eyeball; each tooth, or a
+/// teeth-and-gums arch, in a mesh that holds both jaws), held rigid in
+/// every shape ([`rigid_parts`]). Returns the pieces and, for each, the
+/// largest deviation from a rigid motion removed.
+fn hold_rigid_pieces(
+    scene: &Scene,
+    full: &mut [Vec<DVec3>],
+) -> (Vec<rigid_parts::RigidPiece>, Vec<f64>) {
+    let own = scene.avatar.moving_target_displacements();
+    let pieces = rigid_parts::rigid_pieces(
+        scene.avatar,
+        &scene.positions,
+        &own,
+        &scene.registration.face_parts,
+    );
+    let removed = pieces
         .iter()
         .map(|piece| {
             full.iter_mut()
-                .map(|d| make_rigid(&positions, d, &piece.vertices))
+                .map(|d| make_rigid(&scene.positions, d, &piece.vertices))
                 .fold(0.0, f64::max)
         })
         .collect();
+    (pieces, removed)
+}
 
-    // Eyelid repair.
-    let eyeballs: Vec<Eyeball> = registration
+/// No lid inside an eyeball ([`eyelid_repair`]), shape by shape, the
+/// shapes shared out between the cores; returns the lid vertices moved.
+fn repair_lids(scene: &Scene, full: &mut [Vec<DVec3>]) -> usize {
+    let positions = &scene.positions;
+    let eyeballs: Vec<Eyeball> = scene
+        .registration
         .eyeballs
         .iter()
-        .map(|vertices| Eyeball::new(&positions, avatar.triangles_within(vertices)))
+        .map(|vertices| Eyeball::new(positions, scene.avatar.triangles_within(vertices)))
         .collect();
-    let skin: Vec<u32> = (0..n as u32)
-        .filter(|&v| in_face_parts[v as usize])
+    let skin: Vec<u32> = (0..positions.len() as u32)
+        .filter(|&v| scene.in_face_parts[v as usize])
         .collect();
-    // Shape by shape, the shapes shared out between the cores.
     let repair = |first: usize, shapes: &mut [Vec<DVec3>]| -> usize {
         shapes
             .iter_mut()
             .enumerate()
             .map(|(k, d)| {
                 repair_eyelids(
-                    &positions,
-                    own_shapes[first + k].as_deref().unwrap_or_default(),
+                    positions,
+                    scene.own_shapes[first + k].as_deref().unwrap_or_default(),
                     d,
                     &skin,
                     &eyeballs,
-                    LID_OFFSET_MM * to_avatar,
-                    NEAR_MM * to_avatar,
+                    LID_OFFSET_MM * scene.to_avatar,
+                    NEAR_MM * scene.to_avatar,
                 )
             })
             .sum()
     };
-    let lids_repaired: usize = match in_parallel_chunks(&mut full, repair)
+    match in_parallel_chunks(full, repair)
         .into_iter()
         .collect::<Option<Vec<usize>>>()
     {
         Some(counts) => counts.into_iter().sum(),
         // A thread panicked: again on this thread, where the panic
         // reaches the caller.
-        None => repair(0, &mut full),
-    };
-    // Invisible displacements written as zero, as for `A_j`.
-    let cut = NegligibleLength::of(positions.iter().copied());
-    Ok(Implanted {
-        shapes: full
-            .into_iter()
-            .map(|d| d.into_iter().map(|x| cut.written(x)).collect())
-            .collect(),
-        face_vertices: face.vertices().len(),
-        adjacent_vertices: adjacent.region().len(),
-        still_faded: faded,
-        lids_repaired,
-        lids_closed: closing.count(),
-        own_lids: closed_lids.count(),
-        rigid_parts: rigid_parts::wholly_rigid_parts(avatar, &pieces),
-        rigid_pieces: pieces,
-        rigid_deviation_removed,
-    })
+        None => repair(0, full),
+    }
 }

@@ -61,6 +61,8 @@ struct Summary {
     arkit_found: usize,
     arkit_missing: Vec<&'static str>,
     face_vertices: usize,
+    /// Each part of the avatar and what it was found to be.
+    parts: Vec<PartSummary>,
     /// Whose face the avatar has at rest: "person" (the scanned neutral
     /// taken) or "stock".
     rest_face: &'static str,
@@ -92,6 +94,14 @@ struct Summary {
     retarget_map: Option<String>,
     #[serde(skip_serializing_if = "Option::is_none")]
     preview: Option<PreviewSummary>,
+}
+
+/// One part of the avatar: its name and its role (`skin`, `eyeball`,
+/// `upper teeth`, `lower teeth`, `teeth`, `tongue` or `other`).
+#[derive(Serialize)]
+struct PartSummary {
+    name: String,
+    role: &'static str,
 }
 
 /// What `--preview` wrote.
@@ -176,7 +186,7 @@ pub fn demo_avatar(
     println!(
         "Default avatar: {} vertices in {} meshes; face found on {} of them, registration residual mean {:.3} mm, max {:.3} mm ({:.2} s)",
         glb.avatar.vertex_count(),
-        glb.avatar.meshes.len(),
+        glb.avatar.meshes().len(),
         registration.map.face.len(),
         registration.residual_mean_mm,
         registration.residual_max_mm,
@@ -204,7 +214,7 @@ pub fn demo_avatar(
         i.rigid_parts
             .iter()
             .copied()
-            .filter(|p| !registration.eyeball_parts.contains(p))
+            .filter(|p| !registration.eyeball_parts().contains(p))
             .collect()
     });
     let faces = [
@@ -256,7 +266,7 @@ pub fn default_avatar_command(out: &Path) -> CliResult {
         out.display(),
         bytes.len() as f64 / 1e6,
         built.avatar.vertex_count(),
-        built.avatar.meshes.len(),
+        built.avatar.meshes().len(),
         started.elapsed().as_secs_f64()
     );
     Ok(())
@@ -323,7 +333,7 @@ pub fn avatar_command(args: &AvatarArgs) -> CliResult {
     let rig = session.template.blendshapes()?;
     let dir = args.cache_dir.clone().unwrap_or_else(default_cache_dir);
     let key = cache_key(&glb.avatar, &rig);
-    let cached = cache::load(&dir, &key);
+    let cached = cache::load(&dir, &key, &glb.avatar, session.topology.vertex_count());
     let was_cached = cached.is_some();
     let person = PersonInput {
         mask: &session.topology,
@@ -412,6 +422,15 @@ pub fn avatar_command(args: &AvatarArgs) -> CliResult {
         arkit_found: made.found.found(),
         arkit_missing: made.found.missing().iter().map(|b| b.name()).collect(),
         face_vertices: registration.map.face.len(),
+        parts: avatar
+            .parts()
+            .iter()
+            .zip(&registration.roles)
+            .map(|(p, r)| PartSummary {
+                name: p.name.clone(),
+                role: r.name(),
+            })
+            .collect(),
         rest_face: if made.taken_face.is_some() {
             "person"
         } else {
@@ -468,7 +487,7 @@ fn write_preview(
                 .rigid_parts
                 .iter()
                 .copied()
-                .filter(|p| !made.registration.eyeball_parts.contains(p))
+                .filter(|p| !made.registration.eyeball_parts().contains(p))
                 .collect(),
         ),
         None => {
@@ -498,6 +517,41 @@ fn write_preview(
     crate::avatar_preview::write_preview(&input, dir)
 }
 
+/// The parts by role, in the order roles first appear: `skin: head;
+/// eyeball: eyeLeft, eyeRight; …`, a name repeated as often as it has
+/// parts of that role (`eyeLeft ×3`).
+fn parts_line(parts: &[PartSummary]) -> String {
+    let mut roles: Vec<(&str, Vec<(&str, usize)>)> = Vec::new();
+    for p in parts {
+        let at = match roles.iter().position(|(r, _)| *r == p.role) {
+            Some(at) => at,
+            None => {
+                roles.push((p.role, Vec::new()));
+                roles.len() - 1
+            }
+        };
+        let names = &mut roles[at].1;
+        match names.iter_mut().find(|(n, _)| *n == p.name) {
+            Some((_, count)) => *count += 1,
+            None => names.push((&p.name, 1)),
+        }
+    }
+    roles
+        .iter()
+        .map(|(role, names)| {
+            let names: Vec<String> = names
+                .iter()
+                .map(|(n, c)| match c {
+                    1 => n.to_string(),
+                    c => format!("{n} ×{c}"),
+                })
+                .collect();
+            format!("{role}: {}", names.join(", "))
+        })
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
 fn print_summary(s: &Summary) {
     println!(
         "Avatar: {} ({} vertices, {} morph targets)",
@@ -523,6 +577,7 @@ fn print_summary(s: &Summary) {
             format!(" ({:.2} s)", s.registration_seconds)
         }
     );
+    println!("Parts: {}", parts_line(&s.parts));
     println!(
         "Retargeting (Eq. 4): weights {:.3} … {:.3}, {} outside [0, 1]; worst relative residual {:.3}",
         s.retarget_weight_min,

@@ -72,7 +72,7 @@ fn a_session_onto_a_user_avatar_gives_a_glb_a_map_and_a_summary() {
     let written = read_avatar(&glb).expect("the written GLB reads");
     let found = check_avatar(&written).expect("an avatar");
     assert_eq!(found.found(), 52);
-    let head = &written.avatar.meshes[0];
+    let head = &written.avatar.meshes()[0];
     for shape in Blendshape::ALL {
         assert!(
             head.target_names.iter().any(|n| n == shape.name()),

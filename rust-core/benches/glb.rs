@@ -13,69 +13,44 @@ use likeness::Blendshape;
 use likeness::avatar::glb::{
     NewGlbOptions, NewShapes, TargetEncoding, new_avatar_glb, read_avatar_bytes, written_back_glb,
 };
-use likeness::avatar::{Avatar, AvatarMesh, AvatarPart};
+use likeness::avatar::{Avatar, AvatarPart};
+use likeness_sim::grid_avatar;
 use std::hint::black_box;
 use std::path::Path;
 
+/// A `side × side` grid (1 mm apart) as a part of mesh `mesh`, with
+/// one target per shape of `targets`, each moving a band of about 8% of the
+/// rows whose place depends on the shape.
 fn grid(mesh: usize, side: u32, targets: &[Blendshape]) -> AvatarPart {
-    let n = side * side;
-    let positions: Vec<Vec3> = (0..n)
-        .map(|i| Vec3::new((i % side) as f32 * 1e-3, (i / side) as f32 * 1e-3, 0.0))
-        .collect();
-    let mut triangles = Vec::new();
-    for y in 0..side - 1 {
-        for x in 0..side - 1 {
-            let i = y * side + x;
-            triangles.push([i, i + 1, i + side + 1]);
-            triangles.push([i, i + side + 1, i + side]);
-        }
-    }
-    let targets = targets
-        .iter()
-        .map(|s| {
-            // A band of rows whose place depends on the shape: ~8% of rows.
-            let band = side / 12;
-            let first = (s.index() as u32 * 7) % (side - band);
-            (0..n)
-                .map(|i| {
-                    let row = i / side;
-                    if (first..first + band).contains(&row) {
-                        Vec3::new(0.0, -1e-4 * (row - first) as f32, 2e-4)
-                    } else {
-                        Vec3::ZERO
-                    }
-                })
-                .collect()
-        })
-        .collect();
-    AvatarPart {
-        name: format!("mesh {mesh}"),
+    let band = side / 12;
+    grid_avatar::part(
         mesh,
-        primitive: 0,
-        positions,
-        triangles,
-        targets,
-    }
+        grid_avatar::grid(side, side, 1e-3, 0.0),
+        targets.len(),
+        |t, v, _| {
+            let first = (targets[t].index() as u32 * 7) % (side - band);
+            let row = v as u32 / side;
+            if (first..first + band).contains(&row) {
+                Vec3::new(0.0, -1e-4 * (row - first) as f32, 2e-4)
+            } else {
+                Vec3::ZERO
+            }
+        },
+    )
 }
 
 fn avatar() -> Avatar {
-    let names = |s: &[Blendshape]| s.iter().map(|s| s.name().to_string()).collect();
-    Avatar {
-        meshes: vec![
-            AvatarMesh {
-                name: Some("Head".into()),
-                target_names: names(&Blendshape::ALL),
-            },
-            AvatarMesh {
-                name: Some("Teeth".into()),
-                target_names: names(&[Blendshape::JawOpen]),
-            },
+    let names = |s: &[Blendshape]| s.iter().map(|s| s.name()).collect::<Vec<_>>();
+    grid_avatar::avatar(
+        &[
+            ("Head", &names(&Blendshape::ALL)[..]),
+            ("Teeth", &names(&[Blendshape::JawOpen])),
         ],
-        parts: vec![
+        vec![
             grid(0, 141, &Blendshape::ALL),
             grid(1, 20, &[Blendshape::JawOpen]),
         ],
-    }
+    )
 }
 
 fn glb(c: &mut Criterion) {
@@ -94,10 +69,10 @@ fn glb(c: &mut Criterion) {
         // The shapes the file already has, written back.
         let per_part = read
             .avatar
-            .parts
+            .parts()
             .iter()
             .map(|p| {
-                let names = &read.avatar.meshes[p.mesh].target_names;
+                let names = &read.avatar.meshes()[p.mesh].target_names;
                 match names.iter().position(|n| n == s.name()) {
                     Some(t) => p.targets[t].clone(),
                     None => vec![Vec3::ZERO; p.positions.len()],

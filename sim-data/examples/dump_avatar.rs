@@ -18,7 +18,7 @@ fn main() -> std::io::Result<()> {
     let dflt = default_avatar();
     let avatar = &dflt.avatar;
     eprintln!("built in {:.3} s", start.elapsed().as_secs_f64());
-    for p in &avatar.parts {
+    for p in avatar.parts() {
         eprintln!(
             "{}: {} vertices, {} triangles",
             p.name,
@@ -46,8 +46,8 @@ fn main() -> std::io::Result<()> {
     for (pose, weights) in poses {
         let mut text = String::new();
         let mut base = 1;
-        for part in &avatar.parts {
-            let names = &avatar.meshes[part.mesh].target_names;
+        for part in avatar.parts() {
+            let names = &avatar.meshes()[part.mesh].target_names;
             let mut pos = part.positions.clone();
             for (name, w) in &weights {
                 if let Some(t) = names.iter().position(|n| n == name) {

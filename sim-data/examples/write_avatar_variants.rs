@@ -48,7 +48,7 @@ fn main() {
         println!(
             "    {} vertices in {} parts",
             read.avatar.vertex_count(),
-            read.avatar.parts.len()
+            read.avatar.parts().len()
         );
         if png {
             let t = &v.truth;

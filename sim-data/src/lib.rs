@@ -13,6 +13,7 @@ pub mod default_avatar;
 pub mod envelope;
 pub mod face_mask;
 pub mod face_model;
+pub mod grid_avatar;
 pub mod performance;
 pub mod real_takes;
 pub mod regions;

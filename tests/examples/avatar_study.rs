@@ -108,7 +108,7 @@ fn study_round_trip(glb: &GlbAvatar) {
 /// The name of the part holding avatar vertex `v`.
 fn part_of(avatar: &likeness::avatar::Avatar, v: u32) -> String {
     let offsets = avatar.vertex_offsets();
-    (0..avatar.parts.len())
+    (0..avatar.parts().len())
         .find(|&i| (offsets[i]..offsets[i + 1]).contains(&(v as usize)))
-        .map_or("?".into(), |i| avatar.parts[i].name.clone())
+        .map_or("?".into(), |i| avatar.parts()[i].name.clone())
 }

@@ -29,7 +29,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .iter()
         .map(|p| p.as_dvec3())
         .collect();
-    let skin = glb.avatar.triangles_of(&[0]);
+    let skin = glb.avatar.part_triangles(&[0]);
     let session = likeness_tests::committed::read(1)?;
     let rig = session.template.blendshapes()?;
     let found = find_face(&glb.avatar, &session.topology, &rig)?;

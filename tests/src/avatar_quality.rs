@@ -31,18 +31,11 @@ pub const OWN_STRETCH: f32 = 1.5;
 /// The unique edges of the avatar's face parts (the head's skin) whose
 /// ends are in no eyeball.
 pub fn head_edges(avatar: &Avatar, found: &FaceRegistration) -> Vec<(u32, u32)> {
-    let offsets = avatar.vertex_offsets();
     let in_eyeball = eyeball_flags(avatar, found);
-    let mut edges: Vec<(u32, u32)> = found
-        .face_parts
+    let mut edges: Vec<(u32, u32)> = avatar
+        .part_triangles(&found.face_parts())
         .iter()
-        .flat_map(|&i| {
-            let o = offsets[i] as u32;
-            avatar.parts[i].triangles.iter().flat_map(move |t| {
-                let t = t.map(|v| v + o);
-                [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])]
-            })
-        })
+        .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
         .filter(|(a, b)| !in_eyeball[*a as usize] && !in_eyeball[*b as usize])
         .map(|(a, b)| (a.min(b), a.max(b)))
         .collect();
@@ -159,7 +152,8 @@ pub fn deepest_lid(
     };
     let triangles: Vec<[u32; 3]> = avatar
         .triangles()
-        .into_iter()
+        .iter()
+        .copied()
         .filter(|t| t.iter().all(|&v| in_eye[v as usize]))
         .collect();
     let (centre, radius) = bounding_sphere(&rest, eye);
@@ -283,7 +277,7 @@ pub fn figures(avatar: &Avatar, found: &FaceRegistration, implanted: &Implanted)
     .collect();
     let offsets = avatar.vertex_offsets();
     let mut face_parts = vec![false; avatar.vertex_count()];
-    for &i in &found.face_parts {
+    for &i in &found.face_parts() {
         face_parts[offsets[i]..offsets[i + 1]].fill(true);
     }
     let jaw = Blendshape::JawOpen;

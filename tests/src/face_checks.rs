@@ -124,7 +124,7 @@ pub fn face_checks(
     let rest32: Vec<Vec3> = avatar.positions();
     let offsets = avatar.vertex_offsets();
     let mut by_outline = vec![false; rest.len()];
-    for &part in &found.face_parts {
+    for &part in &found.face_parts() {
         let near = outline_vertices(found, mask, avatar, part);
         by_outline[offsets[part]..offsets[part + 1]].copy_from_slice(&near);
     }
@@ -166,7 +166,7 @@ pub fn face_checks(
 pub fn teeth_and_gums(avatar: &Avatar) -> Vec<u32> {
     let offsets = avatar.vertex_offsets();
     avatar
-        .parts
+        .parts()
         .iter()
         .enumerate()
         .filter(|(_, p)| p.name.starts_with("teeth") || p.name.starts_with("gums"))

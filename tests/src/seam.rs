@@ -106,7 +106,7 @@ pub fn outline_vertices(
         .flat_map(|(i, l)| l.iter().map(move |&v| (v, i == outline)))
         .map(|(v, is_outline)| (found.mask_on_avatar[v as usize], is_outline))
         .collect();
-    avatar.parts[skin]
+    avatar.parts()[skin]
         .positions
         .iter()
         .map(|p| {

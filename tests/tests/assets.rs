@@ -19,9 +19,9 @@ fn the_shipped_default_avatar_is_the_one_sim_data_builds() {
                       bindings/likeness-assets/default-avatar.glb`";
     let built = read_avatar_bytes(&built, "built").unwrap().avatar;
     let shipped = read_avatar_bytes(shipped, "shipped").unwrap().avatar;
-    assert_eq!(built.meshes, shipped.meshes, "{regenerate}");
-    assert_eq!(built.parts.len(), shipped.parts.len(), "{regenerate}");
-    for (b, s) in built.parts.iter().zip(&shipped.parts) {
+    assert_eq!(built.meshes(), shipped.meshes(), "{regenerate}");
+    assert_eq!(built.parts().len(), shipped.parts().len(), "{regenerate}");
+    for (b, s) in built.parts().iter().zip(shipped.parts()) {
         assert_eq!(
             (&b.name, &b.triangles),
             (&s.name, &s.triangles),

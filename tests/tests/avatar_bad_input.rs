@@ -4,13 +4,13 @@
 //! never a panic. (A session whose personalization fails is refused by
 //! `likeness avatar` before any file is written: `cli/tests/avatar.rs`.)
 
-use likeness::avatar::Avatar;
 use likeness::avatar::glb::{
     GlbAvatar, NewGlbOptions, check_avatar, new_avatar_glb, read_avatar_bytes,
 };
 use likeness::avatar::personal_avatar::{
     AvatarError, AvatarShapes, AvatarStep, AvatarWarning, PersonInput, RestFace, personal_avatar,
 };
+use likeness::avatar::{Avatar, AvatarPart};
 use likeness::{Blendshape, Blendshapes};
 use likeness_sim::default_avatar::default_avatar;
 use likeness_sim::face_mask::face_mask;
@@ -44,10 +44,11 @@ fn run(glb: &GlbAvatar) -> Result<likeness::avatar::personal_avatar::PersonalAva
 /// The default avatar with only its head mesh: no eyeballs, teeth, gums
 /// or tongue.
 fn head_only() -> Avatar {
-    let mut avatar = default_avatar().avatar.clone();
-    avatar.parts.retain(|p| p.mesh == 0);
-    avatar.meshes.truncate(1);
-    avatar
+    let edit = |meshes: &mut Vec<_>, parts: &mut Vec<AvatarPart>| {
+        parts.retain(|p| p.mesh == 0);
+        meshes.truncate(1);
+    };
+    default_avatar().avatar.clone().edited(edit).unwrap()
 }
 
 #[test]
@@ -82,13 +83,14 @@ fn an_avatar_without_eyes_or_teeth_is_made_and_says_what_it_skipped() {
 
 #[test]
 fn targets_that_move_nothing_are_named_and_an_avatar_of_only_such_is_refused() {
-    let mut avatar = head_only();
     let puff = Blendshape::CheekPuff.index();
-    for part in &mut avatar.parts {
-        part.targets[puff]
-            .iter_mut()
-            .for_each(|d| *d = glam::Vec3::ZERO);
-    }
+    let avatar = head_only()
+        .edited(|_, parts| {
+            for part in parts {
+                part.targets[puff].fill(glam::Vec3::ZERO);
+            }
+        })
+        .unwrap();
     let made = run(&as_glb(&avatar, "still-cheeks.glb")).expect("made");
     assert!(
         made.warnings
@@ -97,11 +99,13 @@ fn targets_that_move_nothing_are_named_and_an_avatar_of_only_such_is_refused() {
         made.warnings
     );
 
-    for part in &mut avatar.parts {
-        for target in &mut part.targets {
-            target.iter_mut().for_each(|d| *d = glam::Vec3::ZERO);
-        }
-    }
+    let avatar = avatar
+        .edited(|_, parts| {
+            for target in parts.iter_mut().flat_map(|p| &mut p.targets) {
+                target.fill(glam::Vec3::ZERO);
+            }
+        })
+        .unwrap();
     let err = run(&as_glb(&avatar, "still.glb")).expect_err("nothing moves");
     assert!(
         matches!(err, AvatarError::StillAvatar { targets: 52, .. }),
@@ -114,14 +118,17 @@ fn targets_that_move_nothing_are_named_and_an_avatar_of_only_such_is_refused() {
 fn an_avatar_whose_face_cannot_be_found_is_a_typed_error_naming_the_file() {
     // The blinks move the mouth and the jaw moves the eyes: no face has
     // its features there.
-    let mut avatar = head_only();
     let (blink, jaw) = (
         Blendshape::EyeBlinkLeft.index(),
         Blendshape::MouthSmileLeft.index(),
     );
-    for part in &mut avatar.parts {
-        part.targets.swap(blink, jaw);
-    }
+    let avatar = head_only()
+        .edited(|_, parts| {
+            for part in parts {
+                part.targets.swap(blink, jaw);
+            }
+        })
+        .unwrap();
     let err = run(&as_glb(&avatar, "no-face.glb")).expect_err("no face");
     assert!(matches!(err, AvatarError::Registration { .. }), "{err}");
     assert!(err.to_string().contains("no-face.glb"), "{err}");

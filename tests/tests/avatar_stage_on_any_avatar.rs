@@ -10,7 +10,9 @@
 
 use likeness::avatar::glb::read::{GlbAvatar, read_avatar_bytes};
 use likeness::avatar::personal_avatar::{AvatarWarning, PersonalAvatar};
+use likeness::avatar::registration::PartRole;
 use likeness_sim::avatar_variants::avatar_variants;
+use likeness_sim::avatar_variants::truth::VariantTruth;
 use likeness_tests::avatar_quality::{Figures, figures, summary};
 
 /// Committed subject 1 implanted into `glb`, and its figures.
@@ -77,8 +79,33 @@ fn every_generated_avatar_gets_the_persons_face_without_tears_open_blinks_or_lid
         let (made, f) = implant_subject(&glb);
         let has_teeth = variant.truth.teeth_part.is_some();
         assert_found_and_whole(variant.name, &made, &f, has_teeth);
+        assert_roles(variant.name, &glb, &made, &variant.truth);
         assert_blinks_close(variant.name, &f);
         assert_lids_out(variant.name, &f);
+    }
+}
+
+/// Each part found as what it is: the head's skin, the eyeballs, the
+/// teeth where the variant has them (a part of both rows, or one row),
+/// and a body, hair, glasses or an outfit as nothing of the face.
+fn assert_roles(name: &str, glb: &GlbAvatar, made: &PersonalAvatar, truth: &VariantTruth) {
+    let roles = &made.registration.roles;
+    assert_eq!(roles[truth.head_part], PartRole::Skin, "{name}");
+    for k in truth.eyeball_parts {
+        assert_eq!(roles[k], PartRole::Eyeball, "{name}: part {k}");
+    }
+    if let Some(k) = truth.teeth_part {
+        let role = roles[k];
+        let both = truth.teeth_share_mesh_with_gums || name.starts_with("one-mesh");
+        assert!(
+            role == PartRole::Teeth || (!both && role.is_teeth()),
+            "{name}: the teeth found as {role:?}"
+        );
+    }
+    for (part, role) in glb.avatar.parts().iter().zip(roles) {
+        if ["Body", "Hair", "Glasses", "Outfit"].contains(&part.name.as_str()) {
+            assert_eq!(*role, PartRole::Other, "{name}: {}", part.name);
+        }
     }
 }
 
@@ -142,6 +169,22 @@ fn a_real_avatar_nobody_here_made_gets_the_persons_face_without_tears_or_lids_in
     };
     let (made, f) = implant_subject(&glb);
     assert_found_and_whole("ict-facekit", &made, &f, true);
+    let roles: Vec<(&str, PartRole)> = glb
+        .avatar
+        .parts()
+        .iter()
+        .map(|p| p.name.as_str())
+        .zip(made.registration.roles.iter().copied())
+        .collect();
+    assert_eq!(
+        roles,
+        [
+            ("Head", PartRole::Skin),
+            ("TeethGums", PartRole::Teeth),
+            ("EyeLeft", PartRole::Eyeball),
+            ("EyeRight", PartRole::Eyeball)
+        ]
+    );
     assert_blinks_close("ict-facekit", &f);
     assert_lids_out("ict-facekit", &f);
 }

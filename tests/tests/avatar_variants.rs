@@ -48,7 +48,7 @@ fn y_up_metres(t: &VariantTruth, p: Vec3) -> Vec3 {
 /// Centre of a part's bounding box, in metres, +Y up.
 fn centre(t: &VariantTruth, a: &GlbAvatar, part: usize) -> Vec3 {
     let [lo, hi] = bounds(
-        a.avatar.parts[part]
+        a.avatar.parts()[part]
             .positions
             .iter()
             .map(|&p| y_up_metres(t, p)),
@@ -83,9 +83,9 @@ fn every_variant_reads_with_the_52_arkit_targets_and_its_layout() {
         let arkit = check_avatar(&a).unwrap_or_else(|e| panic!("{}: {e}", v.name));
         assert_eq!(arkit.found(), t.arkit_targets, "{}", v.name);
         assert_eq!(t.arkit_targets, 52, "{}", v.name);
-        assert_eq!(a.avatar.meshes.len(), t.meshes, "{}: meshes", v.name);
-        assert_eq!(a.avatar.parts.len(), t.parts, "{}: parts", v.name);
-        let head = &a.avatar.parts[t.head_part];
+        assert_eq!(a.avatar.meshes().len(), t.meshes, "{}: meshes", v.name);
+        assert_eq!(a.avatar.parts().len(), t.parts, "{}: parts", v.name);
+        let head = &a.avatar.parts()[t.head_part];
         assert_eq!(head.positions.len(), t.head_vertices, "{}: head", v.name);
         assert!(0 < t.face_vertices && t.face_vertices < t.head_vertices);
         let json = a.json();
@@ -98,7 +98,7 @@ fn every_variant_reads_with_the_52_arkit_targets_and_its_layout() {
             "{}: bind pose",
             v.name
         );
-        for (m, mesh) in a.avatar.meshes.iter().enumerate() {
+        for (m, mesh) in a.avatar.meshes().iter().enumerate() {
             let name = mesh.name.as_deref().unwrap_or_default();
             assert_eq!(
                 mesh.target_names.is_empty(),
@@ -107,7 +107,7 @@ fn every_variant_reads_with_the_52_arkit_targets_and_its_layout() {
                 v.name
             );
         }
-        let extra: Vec<&str> = a.avatar.meshes[a.avatar.parts[t.head_part].mesh]
+        let extra: Vec<&str> = a.avatar.meshes()[a.avatar.parts()[t.head_part].mesh]
             .target_names
             .iter()
             .filter(|n| !matches!(parse_target_name(n), TargetName::Arkit(_)))
@@ -205,8 +205,8 @@ fn world_bounds_units_and_up_axis_are_as_built() {
 /// Largest displacement of part `k` under every target whose name starts
 /// with `prefix`.
 fn moved_by(a: &GlbAvatar, k: usize, prefix: &str) -> f32 {
-    let part = &a.avatar.parts[k];
-    let names = &a.avatar.meshes[part.mesh].target_names;
+    let part = &a.avatar.parts()[k];
+    let names = &a.avatar.meshes()[part.mesh].target_names;
     names
         .iter()
         .zip(&part.targets)
@@ -240,8 +240,8 @@ fn eyes_turn_by_targets_or_by_bones_as_built() {
     // near the eyes (the lids).
     let v = variant("bone-eyes");
     let a = read(v);
-    let head = &a.avatar.parts[v.truth.head_part];
-    let names = &a.avatar.meshes[head.mesh].target_names;
+    let head = &a.avatar.parts()[v.truth.head_part];
+    let names = &a.avatar.meshes()[head.mesh].target_names;
     for (n, d) in names.iter().zip(&head.targets) {
         if n.starts_with("eyeLook") {
             for (p, d) in head.positions.iter().zip(d) {
@@ -258,8 +258,8 @@ fn jaw_open_moves_the_lower_half_of_shared_teeth_rigidly() {
     for v in variants() {
         let (a, t) = (read(v), &v.truth);
         let Some(k) = t.teeth_part else { continue };
-        let part = &a.avatar.parts[k];
-        let jaw = a.avatar.meshes[part.mesh]
+        let part = &a.avatar.parts()[k];
+        let jaw = a.avatar.meshes()[part.mesh]
             .target_names
             .iter()
             .position(|n| n == "jawOpen")
@@ -366,11 +366,11 @@ fn lined_sockets_have_no_hole_at_the_eyes() {
     let loops_at_eyes = |name: &str| {
         let v = variants().iter().find(|v| v.name == name).expect("listed");
         let a = read_avatar_bytes(&v.glb, v.name).expect("reads");
-        let head = &a.avatar.parts[v.truth.head_part];
+        let head = &a.avatar.parts()[v.truth.head_part];
         let topology =
             Topology::new(head.positions.len(), head.triangles.clone()).expect("a checked part");
         let eyes = v.truth.eyeball_parts.map(|k| {
-            let p = &a.avatar.parts[k].positions;
+            let p = &a.avatar.parts()[k].positions;
             let c = p.iter().copied().sum::<Vec3>() / p.len() as f32;
             let r = p.iter().map(|q| q.distance(c)).fold(0.0, f32::max);
             (c, r)

@@ -4,7 +4,9 @@
 //! other units, orientations and origins.
 
 use glam::{DMat3, DVec3, Vec3};
-use likeness::avatar::registration::{FaceRegistration, RegistrationError, Similarity, find_face};
+use likeness::avatar::registration::{
+    FaceRegistration, PartRole, RegistrationError, Similarity, find_face,
+};
 use likeness::avatar::{Avatar, AvatarMesh, AvatarPart};
 use likeness::{Blendshape, Blendshapes};
 use likeness_sim::face_mask::face_mask;
@@ -58,15 +60,15 @@ fn remeshed_mask(placement: Similarity) -> (Avatar, Vec<Vec<(u32, f64)>>) {
                 .collect()
         })
         .collect();
-    let avatar = Avatar {
-        meshes: vec![AvatarMesh {
+    let avatar = Avatar::new(
+        vec![AvatarMesh {
             name: Some("head".into()),
             target_names: Blendshape::ALL
                 .iter()
                 .map(|b| b.name().to_string())
                 .collect(),
         }],
-        parts: vec![AvatarPart {
+        vec![AvatarPart {
             name: "head".into(),
             mesh: 0,
             primitive: 0,
@@ -74,7 +76,8 @@ fn remeshed_mask(placement: Similarity) -> (Avatar, Vec<Vec<(u32, f64)>>) {
             triangles,
             targets,
         }],
-    };
+    )
+    .unwrap();
     (avatar, truth)
 }
 
@@ -211,8 +214,12 @@ fn the_face_is_found_in_metres_centimetres_and_any_orientation() {
 
 #[test]
 fn an_avatar_without_blink_or_jaw_shapes_is_a_clear_error() {
-    let (mut avatar, _) = remeshed_mask(Similarity::IDENTITY);
-    avatar.meshes[0].target_names[Blendshape::JawOpen.index()] = "mouthWide".into();
+    let (avatar, _) = remeshed_mask(Similarity::IDENTITY);
+    let avatar = avatar
+        .edited(|meshes, _| {
+            meshes[0].target_names[Blendshape::JawOpen.index()] = "mouthWide".into();
+        })
+        .unwrap();
     let error = find_face(&avatar, &face_mask().topology, &rig()).unwrap_err();
     assert_eq!(
         error,
@@ -223,17 +230,20 @@ fn an_avatar_without_blink_or_jaw_shapes_is_a_clear_error() {
 
 #[test]
 fn shapes_that_do_not_move_like_a_face_are_a_clear_error() {
-    let (mut avatar, _) = remeshed_mask(Similarity::IDENTITY);
+    let (avatar, _) = remeshed_mask(Similarity::IDENTITY);
     // The blinks swapped with the smiles: eyes where the mouth corners are.
-    let names = &mut avatar.meshes[0].target_names;
-    names.swap(
-        Blendshape::EyeBlinkLeft.index(),
-        Blendshape::MouthSmileLeft.index(),
-    );
-    names.swap(
-        Blendshape::EyeBlinkRight.index(),
-        Blendshape::MouthSmileRight.index(),
-    );
+    let swap = |meshes: &mut Vec<AvatarMesh>, _: &mut Vec<_>| {
+        let names = &mut meshes[0].target_names;
+        names.swap(
+            Blendshape::EyeBlinkLeft.index(),
+            Blendshape::MouthSmileLeft.index(),
+        );
+        names.swap(
+            Blendshape::EyeBlinkRight.index(),
+            Blendshape::MouthSmileRight.index(),
+        );
+    };
+    let avatar = avatar.edited(swap).unwrap();
     let error = find_face(&avatar, &face_mask().topology, &rig()).unwrap_err();
     assert!(
         matches!(error, RegistrationError::FeaturesNotFaceLike(_)),
@@ -269,7 +279,7 @@ fn retargeting_reproduces_the_template_by_its_own_targets_in_any_units() {
         assert!(lo > -0.01 && hi < 1.01, "weights {lo}..{hi}");
         // A_j at the face vertices is M T_j.
         let jaw = retargeting.displacement(&avatar, Blendshape::JawOpen);
-        let target = &avatar.parts[0].targets[Blendshape::JawOpen.index()];
+        let target = &avatar.parts()[0].targets[Blendshape::JawOpen.index()];
         let worst = jaw
             .iter()
             .zip(target)
@@ -316,24 +326,35 @@ fn a_registration_is_cached_by_the_avatars_geometry() {
     let dir = std::env::temp_dir().join(format!("likeness-face-cache-{}", std::process::id()));
     let key = cache_key(&avatar, &rig());
     store(&dir, &key, &found).expect("stores");
-    assert_eq!(load(&dir, &key).as_ref(), Some(&found));
+    let mask_size = face_mask().topology.vertex_count();
+    assert_eq!(load(&dir, &key, &avatar, mask_size).as_ref(), Some(&found));
+    // A file that does not fit the avatar or the mask it is asked for is
+    // a miss, not a registration with indices out of range.
+    assert_eq!(load(&dir, &key, &avatar, mask_size + 1), None);
+    let more = avatar
+        .clone()
+        .edited(|_, parts| parts.push(parts[0].clone()))
+        .unwrap();
+    assert_eq!(load(&dir, &key, &more, mask_size), None);
     let (moved, _) = remeshed_mask(Similarity {
         translation: DVec3::X,
         ..Similarity::IDENTITY
     });
     let other = cache_key(&moved, &rig());
     assert_ne!(other, key);
-    assert_eq!(load(&dir, &other), None);
+    assert_eq!(load(&dir, &other, &moved, mask_size), None);
     // The same rest with its shapes changed (a jawOpen made rounder), or
     // the mask's shapes changed, is found again: the features are where
     // the shapes move most.
-    let mut reshaped = avatar.clone();
-    let jaw = reshaped.meshes[0]
+    let jaw = avatar.meshes()[0]
         .target_names
         .iter()
         .position(|n| n == "jawOpen")
         .expect("a jawOpen");
-    reshaped.parts[0].targets[jaw][0] += Vec3::splat(1e-4);
+    let reshaped = avatar
+        .clone()
+        .edited(|_, parts| parts[0].targets[jaw][0] += Vec3::splat(1e-4))
+        .unwrap();
     assert_ne!(cache_key(&reshaped, &rig()), key);
     let mut deltas = rig().deltas().to_vec();
     deltas[0][0] += DVec3::splat(1e-4);
@@ -342,7 +363,7 @@ fn a_registration_is_cached_by_the_avatars_geometry() {
     let path = cache_path(&dir, &key);
     let bytes = std::fs::read(&path).expect("written");
     std::fs::write(&path, &bytes[..bytes.len() / 2]).expect("truncates");
-    assert_eq!(load(&dir, &key), None);
+    assert_eq!(load(&dir, &key, &avatar, mask_size), None);
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -376,17 +397,19 @@ fn the_default_avatars_face_is_found_where_it_truly_is() {
     let rig = rig();
     let mask = face_mask();
     for (what, placement) in placements {
-        let mut avatar = built.avatar.clone();
-        for part in &mut avatar.parts {
-            for p in &mut part.positions {
-                *p = placement.apply(p.as_dvec3()).as_vec3();
-            }
-            for t in &mut part.targets {
-                for d in t.iter_mut() {
-                    *d = placement.apply_vector(d.as_dvec3()).as_vec3();
+        let place = |_: &mut Vec<_>, parts: &mut Vec<AvatarPart>| {
+            for part in parts {
+                for p in &mut part.positions {
+                    *p = placement.apply(p.as_dvec3()).as_vec3();
+                }
+                for t in &mut part.targets {
+                    for d in t.iter_mut() {
+                        *d = placement.apply_vector(d.as_dvec3()).as_vec3();
+                    }
                 }
             }
-        }
+        };
+        let avatar = built.avatar.clone().edited(place).unwrap();
         let found = find_face(&avatar, &mask.topology, &rig).expect("a face");
         let offsets = avatar.vertex_offsets();
         let skin = offsets[built.skin];
@@ -443,7 +466,22 @@ fn the_default_avatars_face_is_found_where_it_truly_is() {
             mean < 0.2 && max < 1.0,
             "{what}: map error mean {mean} max {max} mm"
         );
-        assert_eq!(found.eyeball_parts, built.eye_parts(), "{what}");
+        assert_eq!(found.eyeball_parts(), built.eye_parts(), "{what}");
+        // The mouth's parts by what the avatar's own shapes do to them.
+        let role = |k: usize| found.roles[k];
+        assert_eq!(role(built.skin), PartRole::Skin, "{what}");
+        for k in [built.ears, built.sockets, built.mouth_cavity] {
+            assert_eq!(role(k), PartRole::Other, "{what}: part {k}");
+        }
+        for (rows, what_row) in [(built.teeth, "teeth"), (built.gums, "gums")] {
+            let found_rows = rows.map(role);
+            assert_eq!(
+                found_rows,
+                [PartRole::UpperTeeth, PartRole::LowerTeeth],
+                "{what}: {what_row}"
+            );
+        }
+        assert_eq!(role(built.tongue), PartRole::Tongue, "{what}");
     }
 }
 
@@ -499,8 +537,8 @@ fn retargeting_the_template_onto_the_default_avatar_reproduces_it() {
     let jaw = retargeting.displacement(&built.avatar, Blendshape::JawOpen);
     let offsets = built.avatar.vertex_offsets();
     let lower = built.teeth[1];
-    let part = &built.avatar.parts[lower];
-    let index = built.avatar.meshes[part.mesh]
+    let part = &built.avatar.parts()[lower];
+    let index = built.avatar.meshes()[part.mesh]
         .target_names
         .iter()
         .position(|n| n == "jawOpen")

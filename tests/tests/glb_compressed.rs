@@ -86,12 +86,16 @@ fn the_compressed_default_avatar_reads_back_the_same_geometry() {
         start.elapsed().as_secs_f64() * 1e3
     );
     assert_eq!(check_avatar(&b).unwrap().found(), 52);
-    assert_eq!(a.avatar.meshes, b.avatar.meshes, "names and target names");
-    assert_eq!(a.avatar.parts.len(), b.avatar.parts.len());
-    let s = scales(&doc, a.avatar.meshes.len());
+    assert_eq!(
+        a.avatar.meshes(),
+        b.avatar.meshes(),
+        "names and target names"
+    );
+    assert_eq!(a.avatar.parts().len(), b.avatar.parts().len());
+    let s = scales(&doc, a.avatar.meshes().len());
     eprintln!("dequantization scales (m): {s:?}");
     let mut worst = 0.0f32;
-    for (pa, pb) in a.avatar.parts.iter().zip(&b.avatar.parts) {
+    for (pa, pb) in a.avatar.parts().iter().zip(b.avatar.parts()) {
         let tol = s[pa.mesh] / 65534.0 + s[pa.mesh] * 1e-6;
         let ta: Vec<_> = pa.triangles.iter().map(|&t| canonical(t)).collect();
         let tb: Vec<_> = pb.triangles.iter().map(|&t| canonical(t)).collect();
@@ -145,7 +149,7 @@ fn the_avatar_written_back_from_a_compressed_one_is_plain_and_valid() {
     let mut shapes = NewShapes::new();
     let per_part: Vec<Vec<Vec3>> = read
         .avatar
-        .parts
+        .parts()
         .iter()
         .map(|p| {
             p.positions
@@ -192,14 +196,14 @@ fn the_avatar_written_back_from_a_compressed_one_is_plain_and_valid() {
     }
     // The new shape reads back in world space.
     let again = read_avatar_bytes(&back, "back.glb").unwrap();
-    let jaw = again.avatar.meshes[0]
+    let jaw = again.avatar.meshes()[0]
         .target_names
         .iter()
         .position(|n| n == "jawOpen")
         .unwrap();
     for (k, part) in again
         .avatar
-        .parts
+        .parts()
         .iter()
         .enumerate()
         .filter(|(_, p)| p.mesh == 0)

@@ -10,9 +10,11 @@ use likeness::avatar::glb::{
     GlbError, MeshLook, NewGlbOptions, NewShapes, check_avatar, read_avatar, write_avatar,
     write_new_avatar,
 };
-use likeness::avatar::{Avatar, AvatarMesh, AvatarPart};
+use likeness::avatar::{Avatar, AvatarPart};
+use likeness_sim::grid_avatar;
 
-/// A fan of `n` triangles around a centre at depth `z`.
+/// A fan of `n` triangles around a centre at depth `z`, as a part of mesh
+/// `mesh` whose target `t` lifts rim vertex `t + 1` by a millimetre.
 fn fan(mesh: usize, n: u32, z: f32, targets: usize) -> AvatarPart {
     let mut positions = vec![Vec3::new(0.0, 0.0, z)];
     positions.extend((0..n).map(|i| {
@@ -20,50 +22,28 @@ fn fan(mesh: usize, n: u32, z: f32, targets: usize) -> AvatarPart {
         Vec3::new(a.cos() * 0.05, a.sin() * 0.05, z)
     }));
     let triangles = (0..n).map(|i| [0, 1 + i, 1 + (i + 1) % n]).collect();
-    let targets = (0..targets)
-        .map(|t| {
-            (0..=n as usize)
-                .map(|v| {
-                    if v == t + 1 {
-                        Vec3::new(0.0, 0.001, 0.0)
-                    } else {
-                        Vec3::ZERO
-                    }
-                })
-                .collect()
-        })
-        .collect();
-    AvatarPart {
-        name: format!("mesh {mesh}"),
-        mesh,
-        primitive: 0,
-        positions,
-        triangles,
-        targets,
-    }
+    grid_avatar::part(mesh, (positions, triangles), targets, |t, v, _| {
+        if v == t + 1 {
+            Vec3::new(0.0, 0.001, 0.0)
+        } else {
+            Vec3::ZERO
+        }
+    })
 }
 
+/// A face whose targets are named in several spellings, and eyes.
 fn avatar() -> Avatar {
-    let names = |v: &[&str]| v.iter().map(|s| s.to_string()).collect();
-    Avatar {
-        meshes: vec![
-            AvatarMesh {
-                name: Some("Face".into()),
-                target_names: names(&[
-                    "EyeBlinkLeft",
-                    "blendShape1.eyeBlink_R",
-                    "cheekPuff_L",
-                    "cheekPuff_R",
-                    "Fcl_MTH_A",
-                ]),
-            },
-            AvatarMesh {
-                name: Some("Eyes".into()),
-                target_names: Vec::new(),
-            },
-        ],
-        parts: vec![fan(0, 12, 0.0, 5), fan(1, 8, -0.02, 0)],
-    }
+    let face = [
+        "EyeBlinkLeft",
+        "blendShape1.eyeBlink_R",
+        "cheekPuff_L",
+        "cheekPuff_R",
+        "Fcl_MTH_A",
+    ];
+    grid_avatar::avatar(
+        &[("Face", &face[..]), ("Eyes", &[])],
+        vec![fan(0, 12, 0.0, 5), fan(1, 8, -0.02, 0)],
+    )
 }
 
 #[test]
@@ -78,16 +58,16 @@ fn written_new_read_and_written_back() {
     let avatar = avatar();
     write_new_avatar(&avatar, &options, &path).unwrap();
     let read = read_avatar(&path).unwrap();
-    for (a, b) in read.avatar.parts.iter().zip(&avatar.parts) {
+    for (a, b) in read.avatar.parts().iter().zip(avatar.parts()) {
         assert_eq!(
             (&a.positions, &a.triangles, &a.targets),
             (&b.positions, &b.triangles, &b.targets)
         );
     }
-    assert_eq!(read.avatar.meshes[0].name.as_deref(), Some("Face"));
-    assert_eq!(read.avatar.meshes[1].name.as_deref(), Some("Eyes"));
+    assert_eq!(read.avatar.meshes()[0].name.as_deref(), Some("Face"));
+    assert_eq!(read.avatar.meshes()[1].name.as_deref(), Some("Eyes"));
     assert_eq!(
-        read.avatar.meshes[0].target_names,
+        read.avatar.meshes()[0].target_names,
         [
             "eyeBlinkLeft",
             "eyeBlinkRight",
@@ -102,7 +82,7 @@ fn written_new_read_and_written_back() {
 
     // Personalized: cheekPuff whole, eyeLookInLeft new (moves the eyes only).
     let zeros = |p: &AvatarPart| vec![Vec3::ZERO; p.positions.len()];
-    let parts = &read.avatar.parts;
+    let parts = read.avatar.parts();
     let mut shapes = NewShapes::new();
     let mut puff: Vec<Vec<Vec3>> = parts.iter().map(zeros).collect();
     puff[0][3] = Vec3::new(0.0, 0.0, 0.004);
@@ -116,16 +96,16 @@ fn written_new_read_and_written_back() {
     write_avatar(&read, &shapes, &out).unwrap();
     let back = read_avatar(&out).unwrap();
     assert_eq!(
-        back.avatar.meshes[0].target_names,
+        back.avatar.meshes()[0].target_names,
         ["eyeBlinkLeft", "eyeBlinkRight", "cheekPuff", "Fcl_MTH_A"]
     );
-    assert_eq!(back.avatar.meshes[1].target_names, ["eyeLookInLeft"]);
-    assert_eq!(back.avatar.parts[0].targets[2], puff[0]);
+    assert_eq!(back.avatar.meshes()[1].target_names, ["eyeLookInLeft"]);
+    assert_eq!(back.avatar.parts()[0].targets[2], puff[0]);
     assert_eq!(
-        back.avatar.parts[0].targets[3],
-        read.avatar.parts[0].targets[4]
+        back.avatar.parts()[0].targets[3],
+        read.avatar.parts()[0].targets[4]
     );
-    assert_eq!(back.avatar.parts[1].targets[0], look[1]);
+    assert_eq!(back.avatar.parts()[1].targets[0], look[1]);
     assert_eq!(
         back.json()["meshes"][0]["weights"]
             .as_array()
@@ -137,7 +117,10 @@ fn written_new_read_and_written_back() {
         back.json()["meshes"][1].get("weights").is_none(),
         "absent stays absent"
     );
-    assert_eq!(back.avatar.parts[1].positions, avatar.parts[1].positions);
+    assert_eq!(
+        back.avatar.parts()[1].positions,
+        avatar.parts()[1].positions
+    );
 
     // Data that does not fit the avatar is refused, and nothing is written.
     let mut short = NewShapes::new();

@@ -80,7 +80,7 @@ fn positions(built: &DefaultAvatar) -> Vec<DVec3> {
 /// The avatar's mouth opening, found as the product finds eye openings.
 fn avatar_mouth(built: &DefaultAvatar, s: &Subject, rim: &EyeHole) -> lid_contacts::EyeOpening {
     let avatar = &built.avatar;
-    let triangles = avatar.triangles_of(&s.found.face_parts);
+    let triangles = avatar.part_triangles(&s.found.face_parts());
     let r = s.found.similarity.rotation;
     let mut found = lid_contacts::eye_openings(
         &positions(built),
@@ -192,11 +192,11 @@ fn teeth_never_poke_through_closed_lips() {
         let centre = teeth.iter().map(|&v| rest[v]).sum::<Vec3>() / teeth.len() as f32;
         let skin = |d: &[Vec3]| -> Vec<[Vec3; 3]> {
             s.found
-                .face_parts
+                .face_parts()
                 .iter()
                 .flat_map(|&i| {
                     let o = offsets[i];
-                    avatar.parts[i]
+                    avatar.parts()[i]
                         .triangles
                         .iter()
                         .map(move |t| t.map(|v| o + v as usize))

@@ -98,7 +98,7 @@ fn the_implant_adds_no_seam_where_the_truth_has_none() {
     let found = find_face(avatar, &session.topology, &rig).expect("a face");
     let skin = built.skin;
     let offsets = avatar.vertex_offsets();
-    let part = &avatar.parts[skin];
+    let part = &avatar.parts()[skin];
     let mut face = vec![false; part.positions.len()];
     for f in &found.map.face {
         let v = f.vertex as usize;
@@ -158,7 +158,7 @@ fn the_implant_adds_no_seam_where_the_truth_has_none() {
                 );
                 continue;
             }
-            let index = avatar.meshes[part.mesh]
+            let index = avatar.meshes()[part.mesh]
                 .target_names
                 .iter()
                 .position(|n| n == shape.name())
@@ -200,17 +200,7 @@ fn no_lid_ends_inside_an_eyeball() {
     let eyeballs: Vec<Eyeball> = built
         .eyes
         .iter()
-        .map(|&i| {
-            let o = offsets[i] as u32;
-            Eyeball::new(
-                &rest,
-                avatar.parts[i]
-                    .triangles
-                    .iter()
-                    .map(|t| t.map(|v| v + o))
-                    .collect(),
-            )
-        })
+        .map(|&i| Eyeball::new(&rest, avatar.part_triangles(&[i])))
         .collect();
     let skin: Vec<u32> = (offsets[built.skin] as u32..offsets[built.skin + 1] as u32).collect();
     // Counting what a repair with no offset would move counts the vertices inside.
@@ -261,7 +251,7 @@ fn eyes_and_teeth_stay_rigid() {
         assert!(
             implanted.rigid_parts.contains(part),
             "{} not found rigid",
-            avatar.parts[*part].name
+            avatar.parts()[*part].name
         );
     }
     assert!(!implanted.rigid_parts.contains(&built.tongue));
@@ -282,11 +272,11 @@ fn eyes_and_teeth_stay_rigid() {
             .fold(0.0, f64::max);
         eprintln!(
             "{}: A_j's largest deviation from rigid {:.3} mm, after {:.5} mm",
-            avatar.parts[part].name,
+            avatar.parts()[part].name,
             removed * 1e3,
             worst * 1e3
         );
-        assert!(worst < 1e-5, "{}: {worst}", avatar.parts[part].name);
+        assert!(worst < 1e-5, "{}: {worst}", avatar.parts()[part].name);
     }
 }
 
@@ -408,7 +398,7 @@ fn a_closed_eye_shows_no_eyeball_from_the_front() {
         // The eyeball of this side: the one the blink's lid covers, nearer
         // to the side's x sign in the face frame.
         let ball = found
-            .eyeball_parts
+            .eyeball_parts()
             .iter()
             .copied()
             .find(|&p| {
@@ -423,10 +413,10 @@ fn a_closed_eye_shows_no_eyeball_from_the_front() {
         let range = offsets[ball]..offsets[ball + 1];
         let centre = range.clone().map(posed).sum::<glam::Vec3>() / range.len() as f32;
         let skin: Vec<[glam::Vec3; 3]> = avatar
-            .parts
+            .parts()
             .iter()
             .enumerate()
-            .filter(|(i, _)| !found.eyeball_parts.contains(i))
+            .filter(|(i, _)| !found.eyeball_parts().contains(i))
             .flat_map(|(i, part)| {
                 let o = offsets[i];
                 part.triangles
@@ -457,10 +447,10 @@ fn a_closed_eye_shows_no_eyeball_from_the_front() {
         assert!(seen.is_empty(), "{shape}: eyeball vertices seen {seen:?}");
         // The same test sees the open eye at rest.
         let skin_at_rest: Vec<[glam::Vec3; 3]> = avatar
-            .parts
+            .parts()
             .iter()
             .enumerate()
-            .filter(|(i, _)| !found.eyeball_parts.contains(i))
+            .filter(|(i, _)| !found.eyeball_parts().contains(i))
             .flat_map(|(i, part)| {
                 let (o, rest) = (offsets[i], &rest);
                 part.triangles
@@ -499,7 +489,7 @@ fn beyond_the_blend_margin_the_avatar_follows_a_j_exactly() {
     let retargeted = s.retargeting.displacements(avatar);
     let positions: Vec<glam::DVec3> = avatar.positions().iter().map(|p| p.as_dvec3()).collect();
     let offsets = avatar.vertex_offsets();
-    let triangles = avatar.triangles_of(&found.face_parts);
+    let triangles = avatar.part_triangles(&found.face_parts());
     let mut face = vec![false; positions.len()];
     for f in &found.map.face {
         face[f.vertex as usize] = true;
@@ -513,7 +503,7 @@ fn beyond_the_blend_margin_the_avatar_follows_a_j_exactly() {
     let beyond: Vec<usize> = (0..positions.len())
         .filter(|&v| {
             found
-                .face_parts
+                .face_parts()
                 .iter()
                 .any(|&i| (offsets[i]..offsets[i + 1]).contains(&v))
                 && !near[v]
@@ -572,7 +562,7 @@ fn each_lip_moves_as_the_persons_up_to_the_slit() {
         .iter()
         .map(|f| f.vertex as usize)
         .collect();
-    let positions = &built.avatar.parts[built.skin].positions;
+    let positions = &built.avatar.parts()[built.skin].positions;
     for shape in [
         Blendshape::JawOpen,
         Blendshape::MouthClose,

@@ -65,7 +65,7 @@ fn the_persons_face_passes_every_check_on_the_default_avatar() {
         .iter()
         .map(|p| p.as_dvec3())
         .collect();
-    let skin = glb.avatar.triangles_of(&[0]);
+    let skin = glb.avatar.part_triangles(&[0]);
     assert_eq!(self_intersections(&stock, &skin), 0, "the stock avatar");
     for seed in likeness_tests::committed::SEEDS {
         let session = likeness_tests::committed::read(seed).expect("reads");
@@ -108,7 +108,7 @@ fn the_persons_face_passes_every_check_on_the_default_avatar() {
 #[test]
 fn the_default_avatars_jaw_opens_without_creasing_the_neck() {
     let built = likeness_sim::default_avatar::default_avatar();
-    let skin = &built.avatar.parts[built.skin];
+    let skin = &built.avatar.parts()[built.skin];
     // Beyond the face's outline: the head's vertices, not the lids'
     // margins (skin past the eye holes).
     let face = built.true_correspondence.len();

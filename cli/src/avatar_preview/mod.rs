@@ -59,7 +59,7 @@ pub struct PreviewInput<'a> {
     /// What the written shapes are, in a sentence.
     pub written_means: &'static str,
     /// The avatar's rigid parts other than eyeballs (teeth, gums,
-    /// tongue), as indices into `avatar.parts`.
+    /// tongue), as indices into `avatar.parts()`.
     pub mouth_parts: &'a [usize],
     /// Each vertex's colour as the file gives it ([`vertex_colours`]).
     pub colours: &'a [Option<[u8; 3]>],
@@ -69,7 +69,7 @@ pub struct PreviewInput<'a> {
 /// its materials and `COLOR_0` give it; `None` where the file does not say
 /// (a texture, no material): the preview's colour for its role.
 pub fn vertex_colours(glb: &GlbAvatar) -> Vec<Option<[u8; 3]>> {
-    let parts = glb.avatar.parts.iter();
+    let parts = glb.avatar.parts().iter();
     parts
         .zip(part_colours(glb))
         .flat_map(|(part, colours)| match colours {
@@ -122,7 +122,7 @@ type Pose = Option<Option<Vec<DVec3>>>;
 /// ([`faces::faces_picture`]), written to `out` as PNG; `registration` is
 /// the face found on the stock avatar (its similarity frames every face
 /// alike), `mouth_parts` the teeth, gums and tongue (indices into
-/// `avatar.parts`), `colours` its vertices' own ([`vertex_colours`]).
+/// `avatar.parts()`), `colours` its vertices' own ([`vertex_colours`]).
 /// Returns the picture's size.
 pub fn write_faces(
     avatar: &Avatar,
@@ -135,9 +135,9 @@ pub fn write_faces(
     let ranges = |parts: &[usize]| part_ranges(avatar, parts);
     let face: Vec<u32> = registration.map.face.iter().map(|f| f.vertex).collect();
     let triangles = avatar.triangles();
-    let (eyeballs, mouth_parts) = (ranges(&registration.eyeball_parts), ranges(mouth_parts));
+    let (eyeballs, mouth_parts) = (ranges(&registration.eyeball_parts()), ranges(mouth_parts));
     let meshes = faces::Meshes {
-        triangles: &triangles,
+        triangles,
         eyeballs: &eyeballs,
         mouth_parts: &mouth_parts,
         face: &face,
@@ -165,12 +165,12 @@ pub fn write_preview(
     let avatar = input.avatar;
     let registration = input.registration;
     let ranges = |parts: &[usize]| part_ranges(avatar, parts);
-    let eyeballs = ranges(&registration.eyeball_parts);
+    let eyeballs = ranges(&registration.eyeball_parts());
     let mouth_parts = ranges(input.mouth_parts);
     let face: Vec<u32> = registration.map.face.iter().map(|f| f.vertex).collect();
     let scene = Scene::new(
         points_in_mask_frame(registration, &avatar.positions()),
-        avatar.triangles(),
+        avatar.triangles().to_vec(),
         &eyeballs,
         &mouth_parts,
         &face,
@@ -348,7 +348,7 @@ fn write_files(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<(), String> {
     Ok(())
 }
 
-/// The vertex ranges of `parts` (indices into `avatar.parts`; unknown
+/// The vertex ranges of `parts` (indices into `avatar.parts()`; unknown
 /// ones left out).
 fn part_ranges(avatar: &Avatar, parts: &[usize]) -> Vec<std::ops::Range<usize>> {
     let offsets = avatar.vertex_offsets();

@@ -174,7 +174,7 @@ pub fn section(
             let image = render(
                 &[Mesh {
                     positions: &turned,
-                    triangles: &triangles,
+                    triangles,
                     colours: &colours,
                 }],
                 &view,
@@ -262,7 +262,7 @@ fn avatar_in_mask_frame(glb: &GlbAvatar, registration: &FaceRegistration) -> Vec
 fn base_colours(glb: &GlbAvatar, registration: &FaceRegistration) -> Vec<[u8; 3]> {
     let offsets = glb.avatar.vertex_offsets();
     let mut colours = vec![SKIN; glb.avatar.vertex_count()];
-    for &part in &registration.eyeball_parts {
+    for &part in &registration.eyeball_parts() {
         if let Some(range) = offsets.get(part).zip(offsets.get(part + 1)) {
             colours[*range.0..*range.1].fill(PALE);
         }

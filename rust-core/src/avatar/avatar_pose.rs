@@ -56,7 +56,7 @@ impl AvatarPose {
             .collect();
         AvatarPose {
             rest: avatar.positions(),
-            triangles: avatar.triangles(),
+            triangles: avatar.triangles().to_vec(),
             shapes,
             found,
         }
@@ -190,8 +190,8 @@ mod tests {
             triangles: vec![[0, 1, 2]],
             targets: vec![vec![Vec3::ZERO, Vec3::ZERO, Vec3::new(0.0, -2.0, 0.0)]],
         };
-        Avatar {
-            meshes: vec![
+        Avatar::new(
+            vec![
                 AvatarMesh {
                     name: Some("head".into()),
                     target_names: vec![
@@ -205,8 +205,9 @@ mod tests {
                     target_names: vec!["jawOpen".into()],
                 },
             ],
-            parts: vec![head, tooth],
-        }
+            vec![head, tooth],
+        )
+        .unwrap()
     }
 
     #[test]
@@ -249,17 +250,18 @@ mod tests {
         let (centre, radius) = pose.focus();
         assert_eq!(centre, Vec3::splat(2.0));
         assert!((radius - Vec3::splat(4.0).length() / 2.0).abs() < 1e-6);
-        let still = Avatar {
-            meshes: vec![AvatarMesh {
+        let still = Avatar::new(
+            vec![AvatarMesh {
                 name: None,
                 target_names: vec![],
             }],
-            parts: vec![AvatarPart {
+            vec![AvatarPart {
                 mesh: 0,
                 targets: vec![],
-                ..avatar().parts[1].clone()
+                ..avatar().parts()[1].clone()
             }],
-        };
+        )
+        .unwrap();
         let (centre, _) = AvatarPose::new(&still).focus();
         assert_eq!(centre, Vec3::splat(3.0));
     }

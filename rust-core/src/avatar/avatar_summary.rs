@@ -30,7 +30,7 @@ pub fn avatar_summary(glb: &GlbAvatar, made: &PersonalAvatar) -> String {
     let facts = Facts {
         avatar: glb.file.display().to_string(),
         vertices: glb.avatar.vertex_count(),
-        meshes: glb.avatar.meshes.len(),
+        meshes: glb.avatar.meshes().len(),
         arkit_found: made.found.found(),
         face_vertices: made.registration.map.face.len(),
         residual_mean_mm: made.registration.residual_mean_mm,

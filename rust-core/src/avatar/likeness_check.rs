@@ -270,19 +270,23 @@ pub fn likeness_on_avatar(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::avatar::registration::{CorrespondenceMap, FaceVertex, Similarity};
+    use crate::avatar::Avatar;
+    use crate::avatar::registration::{
+        CorrespondenceMap, FaceVertex, FoundFace, PartRole, Similarity,
+    };
     use glam::DMat3;
 
     /// A registration of two avatar vertices onto a one-triangle mask,
     /// the avatar twice the mask's size.
     fn two_vertex_registration() -> FaceRegistration {
-        FaceRegistration {
+        let avatar = Avatar::one_triangle("face");
+        let found = FoundFace {
             similarity: Similarity {
                 scale: 2.0,
                 rotation: DMat3::IDENTITY,
                 translation: DVec3::ZERO,
             },
-            mask_on_avatar: Vec::new(),
+            mask_on_avatar: vec![DVec3::ZERO; 3],
             map: CorrespondenceMap {
                 mask_triangles: vec![[0, 1, 2]],
                 face: vec![
@@ -301,13 +305,13 @@ mod tests {
             residual_mean_mm: 0.0,
             residual_max_mm: 0.0,
             icp_iterations: 0,
-            eyeball_parts: Vec::new(),
+            roles: vec![PartRole::Skin],
             eyeballs: Vec::new(),
             coverage: 1.0,
             nonrigid_steps: (0, 0),
-            face_parts: Vec::new(),
             seconds: 0.0,
-        }
+        };
+        FaceRegistration::new(found, &avatar, 3).unwrap()
     }
 
     #[test]

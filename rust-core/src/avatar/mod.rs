@@ -29,5 +29,5 @@ pub mod registration;
 pub mod retargeting;
 pub mod target_names;
 
-pub use model::{Avatar, AvatarMesh, AvatarPart};
+pub use model::{Avatar, AvatarMesh, AvatarPart, InvalidAvatar};
 pub use target_names::{ArkitTargets, TargetName, parse_target_name};

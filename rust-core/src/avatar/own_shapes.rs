@@ -49,6 +49,7 @@ use super::registration::nonrigid::vertex_normals;
 use super::registration::rigid_icp::MIN_NORMAL_DOT;
 use crate::arkit::{Blendshape, Blendshapes, BlendshapesError};
 use crate::geometry::closest_point::TriangleGrid;
+use crate::geometry::laplacian::normal_lower;
 use crate::geometry::sparse_cholesky;
 use faer::Mat;
 use faer::linalg::solvers::Solve;
@@ -103,17 +104,15 @@ impl MaskOnSkin {
                     .then_some((f.vertex, t, f.barycentric))
             })
             .collect();
+        // `Bᵀ B`, `B` the points' barycentric rows.
+        let point_rows: Vec<[(usize, f64); 3]> = rows
+            .iter()
+            .map(|(_, t, b)| std::array::from_fn(|k| (t[k] as usize, b[k])))
+            .collect();
+        let mut entries = normal_lower(point_rows.iter().map(|r| r.as_slice()));
         let mut diagonal = vec![0.0; n];
-        let mut entries = Vec::with_capacity(9 * rows.len() + n);
-        for (_, t, b) in &rows {
-            for k in 0..3 {
-                diagonal[t[k] as usize] += b[k] * b[k];
-                for i in 0..3 {
-                    if t[k] >= t[i] {
-                        entries.push(Triplet::new(t[k] as usize, t[i] as usize, b[k] * b[i]));
-                    }
-                }
-            }
+        for e in entries.iter().filter(|e| e.row == e.col) {
+            diagonal[e.row] += e.val;
         }
         let seen = diagonal.iter().filter(|d| **d > 0.0).count();
         let mean = diagonal.iter().sum::<f64>() / seen.max(1) as f64;
@@ -274,5 +273,5 @@ pub fn avatar_as_person(
 /// The triangles of the parts the face was found on, in avatar vertex
 /// indices.
 pub fn face_part_triangles(avatar: &Avatar, registration: &FaceRegistration) -> Vec<[u32; 3]> {
-    avatar.triangles_of(&registration.face_parts)
+    avatar.part_triangles(&registration.face_parts())
 }

@@ -360,7 +360,7 @@ pub fn personal_avatar(
     go(AvatarStep::Writing)?;
     let mut new_shapes = per_part_shapes(avatar, &displacements);
     if taken_face.is_some() {
-        new_shapes.set_rest(avatar.parts.iter().map(|p| p.positions.clone()).collect());
+        new_shapes.set_rest(avatar.parts().iter().map(|p| p.positions.clone()).collect());
     }
     let bytes = written_back_glb(glb, &new_shapes, TargetEncoding::Smallest, &glb.file)?;
     Ok(PersonalAvatar {
@@ -446,7 +446,7 @@ pub fn per_part_shapes(avatar: &Avatar, displacements: &[Vec<Vec3>]) -> NewShape
     let offsets = avatar.vertex_offsets();
     let mut shapes = NewShapes::new();
     for (shape, all) in Blendshape::ALL.into_iter().zip(displacements) {
-        let per_part = (0..avatar.parts.len())
+        let per_part = (0..avatar.parts().len())
             .filter_map(|i| Some(all.get(offsets[i]..offsets[i + 1])?.to_vec()))
             .collect();
         shapes.set(shape, per_part);
@@ -458,15 +458,15 @@ pub fn per_part_shapes(avatar: &Avatar, displacements: &[Vec<Vec3>]) -> NewShape
 /// shapes, ARKit's face coordinates, metres) as a GLB with 52 targets in
 /// ARKit's names; `name` names it in messages.
 pub fn mask_glb(mask: &Topology, shapes: &Blendshapes, name: &Path) -> Result<Vec<u8>, GlbError> {
-    let avatar = Avatar {
-        meshes: vec![AvatarMesh {
+    let avatar = Avatar::new(
+        vec![AvatarMesh {
             name: Some("mask".into()),
             target_names: Blendshape::ALL
                 .iter()
                 .map(|b| b.name().to_string())
                 .collect(),
         }],
-        parts: vec![AvatarPart {
+        vec![AvatarPart {
             name: "mask".into(),
             mesh: 0,
             primitive: 0,
@@ -477,7 +477,11 @@ pub fn mask_glb(mask: &Topology, shapes: &Blendshapes, name: &Path) -> Result<Ve
                 .map(|b| shapes.delta(*b).iter().map(|d| d.as_vec3()).collect())
                 .collect(),
         }],
-    };
+    )
+    .map_err(|source| GlbError::Avatar {
+        file: name.to_path_buf(),
+        source,
+    })?;
     let options = NewGlbOptions {
         looks: vec![MeshLook::SKIN],
         ..NewGlbOptions::default()
@@ -534,7 +538,11 @@ pub fn retarget_map_json(glb: &GlbAvatar, r: &Retargeting) -> String {
                     .iter()
                     .map(|&(mesh, index)| MapMorphTarget {
                         mesh,
-                        mesh_name: glb.avatar.meshes.get(mesh).and_then(|m| m.name.as_deref()),
+                        mesh_name: glb
+                            .avatar
+                            .meshes()
+                            .get(mesh)
+                            .and_then(|m| m.name.as_deref()),
                         index,
                     })
                     .collect(),

@@ -152,7 +152,7 @@ pub struct AvatarBlendshape {
 pub fn avatar_blendshapes(avatar: &Avatar) -> Vec<AvatarBlendshape> {
     let mut out: Vec<AvatarBlendshape> = Vec::new();
     for (m, t) in avatar.target_ids() {
-        let name = &avatar.meshes[m].target_names[t];
+        let name = &avatar.meshes()[m].target_names[t];
         match out.iter_mut().find(|b| &b.name == name) {
             Some(b) => b.targets.push((m, t)),
             None => out.push(AvatarBlendshape {
@@ -301,7 +301,7 @@ fn unseen_vertices(
 ) -> Vec<bool> {
     let offsets = avatar.vertex_offsets();
     let mut hidden = vec![false; positions.len()];
-    for &i in &registration.face_parts {
+    for &i in &registration.face_parts() {
         if i + 1 < offsets.len() {
             hidden[offsets[i]..offsets[i + 1]].fill(true);
         }

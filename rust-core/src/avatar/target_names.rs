@@ -78,7 +78,7 @@ impl ArkitTargets {
 /// with both a whole target and halves of one shape keeps the whole one.
 pub fn arkit_targets(avatar: &Avatar) -> ArkitTargets {
     let mut out: [Vec<(usize, usize)>; BLENDSHAPE_COUNT] = std::array::from_fn(|_| Vec::new());
-    for (m, mesh) in avatar.meshes.iter().enumerate() {
+    for (m, mesh) in avatar.meshes().iter().enumerate() {
         let names: Vec<TargetName> = mesh
             .target_names
             .iter()

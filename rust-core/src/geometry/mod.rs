@@ -13,6 +13,7 @@
 //! | §3.3, teeth and eyeballs inside one mesh | connected components (union–find) | [`connected_components`] |
 //! | §3.3, the skin the mask may lie on | triangles seen from the front (orthographic depth buffer) | [`front_visibility`] |
 //! | §3.3, the blend margin; motion faded out where nothing moves | shortest edge paths from a set of vertices (Dijkstra) | [`edge_distance`] |
+//! | §3.2 (Eq. 2), §3.3 steps 1 and 2 | the cotangent Laplacian (gradient form) and the uniform one, as sparse entries | [`laplacian`] |
 //! | §3.3 step 2, the person's face: the uniform Laplacian's rows | each vertex's one-ring | [`one_ring`] |
 //! | beyond §3.3, the person's face: skin that must not pass through itself | triangle pairs that cut through each other (Möller–Trumbore, binned) | [`self_intersection`] |
 //! | every linear solve (Eq. 4's transfers, both steps of §3.3, the registration) | one sparse Cholesky factorization, symbolic analysis reusable | [`sparse_cholesky`] |
@@ -24,6 +25,7 @@ pub mod deformation_gradient;
 pub mod deformation_transfer;
 pub mod edge_distance;
 pub mod front_visibility;
+pub mod laplacian;
 pub mod mesh_boundary;
 pub mod one_ring;
 pub mod self_intersection;

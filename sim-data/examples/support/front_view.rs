@@ -10,7 +10,7 @@ use likeness::avatar::glb::GlbAvatar;
 pub fn front_view_png(avatar: &GlbAvatar, to_y_up: impl Fn(Vec3) -> Vec3, width: usize) -> Vec<u8> {
     let parts: Vec<Vec<Vec3>> = avatar
         .avatar
-        .parts
+        .parts()
         .iter()
         .map(|p| p.positions.iter().map(|&v| to_y_up(v)).collect())
         .collect();
@@ -33,7 +33,7 @@ pub fn front_view_png(avatar: &GlbAvatar, to_y_up: impl Fn(Vec3) -> Vec3, width:
     let mut rgb = vec![40u8; width * height * 3];
     let light = Vec3::new(0.3, 0.5, 1.0).normalize();
     let json = avatar.json();
-    for (part, world) in avatar.avatar.parts.iter().zip(&parts) {
+    for (part, world) in avatar.avatar.parts().iter().zip(&parts) {
         let material = &json["meshes"][part.mesh]["primitives"][part.primitive]["material"];
         let colour = material
             .as_u64()

@@ -35,7 +35,7 @@ pub const FRAME_CLEARANCE: f64 = 0.006;
 /// The hair shell over the default head (ARKit frame, m).
 pub fn hair() -> Mesh {
     let b = base();
-    let skin = &b.avatar.parts[b.skin];
+    let skin = &b.avatar.parts()[b.skin];
     let first_own = b.true_correspondence.len();
     let normals = vertex_normals(&skin.positions, &skin.triangles);
     let keep: Vec<bool> = skin
@@ -71,7 +71,7 @@ fn head_points() -> Vec<Vec3> {
     let b = base();
     [b.skin, b.ears]
         .iter()
-        .flat_map(|&k| b.avatar.parts[k].positions.iter().copied())
+        .flat_map(|&k| b.avatar.parts()[k].positions.iter().copied())
         .collect()
 }
 

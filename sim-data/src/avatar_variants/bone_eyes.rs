@@ -14,7 +14,7 @@ use super::parts::{base, glb_of, plain_truth};
 use super::truth::VariantTruth;
 use crate::default_avatar::head::CENTRE;
 use glam::Vec3;
-use likeness::avatar::{Avatar, AvatarMesh};
+use likeness::avatar::Avatar;
 use serde_json::json;
 
 /// Height of the neck joint below the head joint (m): the atlanto-occipital
@@ -35,26 +35,19 @@ pub fn skeleton(eye_centres: [Vec3; 2]) -> Vec<Joint> {
 
 /// The avatar as the core writes it: the default's, eyes without targets.
 fn avatar() -> Avatar {
-    let mut avatar = base().avatar.clone();
+    let (mut meshes, mut parts) = base().avatar.clone().into_parts();
     for m in [1, 2] {
-        avatar.meshes[m] = AvatarMesh {
-            name: avatar.meshes[m].name.clone(),
-            target_names: Vec::new(),
-        };
+        meshes[m].target_names.clear();
     }
-    for p in avatar
-        .parts
-        .iter_mut()
-        .filter(|p| p.mesh == 1 || p.mesh == 2)
-    {
+    for p in parts.iter_mut().filter(|p| p.mesh == 1 || p.mesh == 2) {
         p.targets.clear();
     }
-    avatar
+    Avatar::new(meshes, parts).expect("the bone-eyes variant's parts make an avatar")
 }
 
 /// Skins every primitive of mesh `mesh` (node `mesh`) wholly to `joint`.
 pub fn skin_mesh_to(glb: &mut Glb, avatar: &Avatar, mesh: usize, joint: u16, skin: usize) {
-    for part in avatar.parts.iter().filter(|p| p.mesh == mesh) {
+    for part in avatar.parts().iter().filter(|p| p.mesh == mesh) {
         let n = part.positions.len();
         glb.skin_primitive(
             mesh,
@@ -74,7 +67,7 @@ pub fn bone_eyes() -> (Vec<u8>, VariantTruth) {
     for (mesh, joint) in [(0, 1), (1, 2), (2, 3)] {
         skin_mesh_to(&mut glb, &avatar, mesh, joint, skin);
     }
-    let mut roots: Vec<usize> = (0..avatar.meshes.len()).collect();
+    let mut roots: Vec<usize> = (0..avatar.meshes().len()).collect();
     roots.push(root);
     glb.set_scene_roots(&roots);
     let mut truth = plain_truth(&avatar, 0, base().true_correspondence.len());

@@ -15,6 +15,7 @@ use super::glb_edit::Glb;
 use super::parts::{base, bounds, glb_of, plain_truth};
 use super::truth::{UpAxis, VariantTruth};
 use glam::{Quat, Vec3};
+use likeness::avatar::Avatar;
 use serde_json::json;
 
 /// Millimetres per metre: the mesh data's unit.
@@ -36,9 +37,9 @@ pub fn to_world(p: Vec3) -> Vec3 {
 
 /// The GLB and its truth.
 pub fn cm_z_up() -> (Vec<u8>, VariantTruth) {
-    let mut avatar = base().avatar.clone();
+    let (meshes, mut parts) = base().avatar.clone().into_parts();
     let unturn = Quat::from_rotation_y(-YAW_DEGREES.to_radians());
-    for part in &mut avatar.parts {
+    for part in &mut parts {
         part.positions
             .iter_mut()
             .for_each(|p| *p = unturn * (MM_PER_M * *p));
@@ -46,8 +47,9 @@ pub fn cm_z_up() -> (Vec<u8>, VariantTruth) {
             t.iter_mut().for_each(|d| *d = unturn * (MM_PER_M * *d));
         }
     }
+    let avatar = Avatar::new(meshes, parts).expect("turning and scaling keeps an avatar valid");
     let mut glb = Glb::parse(&glb_of(&avatar, None));
-    let meshes: Vec<usize> = (0..avatar.meshes.len()).collect();
+    let meshes: Vec<usize> = (0..avatar.meshes().len()).collect();
     let turn = Quat::from_rotation_y(YAW_DEGREES.to_radians());
     let head = glb.push_node(json!({
         "name": "Head",

@@ -114,7 +114,7 @@ fn avatar() -> Avatar {
         .map(|n| arkit_mesh(n, &names))
         .collect();
     meshes.extend(["Body", "Hair", "Glasses", "Outfit"].map(plain_mesh));
-    Avatar { meshes, parts }
+    Avatar::new(meshes, parts).expect("the full-body variant's parts make an avatar")
 }
 
 /// The materials, one per mesh.
@@ -148,7 +148,7 @@ pub fn full_body() -> (Vec<u8>, VariantTruth) {
     let joints = skeleton(b.eye_centres);
     let bones = bones(&joints);
     let (root, skin) = glb.push_skeleton(&joints);
-    for part in &avatar.parts {
+    for part in avatar.parts() {
         let joint_of = |p: Vec3| match part.mesh {
             1 | 2 => EYE_JOINTS[part.mesh - 1],
             0 if p.y < NECK_CUT => nearest_joint(&bones, p),
@@ -163,7 +163,7 @@ pub fn full_body() -> (Vec<u8>, VariantTruth) {
         let weights = vec![[1.0, 0.0, 0.0, 0.0]; joints.len()];
         glb.skin_primitive(part.mesh, part.primitive, &joints, &weights);
     }
-    let mut roots: Vec<usize> = (0..avatar.meshes.len()).collect();
+    let mut roots: Vec<usize> = (0..avatar.meshes().len()).collect();
     for node in &roots {
         glb.json["nodes"][*node]["skin"] = json!(skin);
     }

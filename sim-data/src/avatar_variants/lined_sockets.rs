@@ -104,9 +104,9 @@ fn strip(a: &[u32], b: &[u32], angle: impl Fn(u32) -> f64) -> Vec<[u32; 3]> {
 /// stitched to the eye openings.
 fn avatar() -> Avatar {
     let b = base();
-    let mut avatar = b.avatar.clone();
-    let skin = avatar.parts[b.skin].clone();
-    let sockets = avatar.parts[b.sockets].clone();
+    let (meshes, mut parts) = b.avatar.clone().into_parts();
+    let skin = parts[b.skin].clone();
+    let sockets = parts[b.sockets].clone();
     let o = skin.positions.len() as u32;
     let mut merged = AvatarPart {
         positions: skin
@@ -150,16 +150,15 @@ fn avatar() -> Avatar {
         let stitched = strip(margin, rim, angle);
         merged.triangles.extend(stitched);
     }
-    avatar.parts[b.skin] = merged;
-    avatar.parts.remove(b.sockets);
-    for p in avatar
-        .parts
+    parts[b.skin] = merged;
+    parts.remove(b.sockets);
+    for p in parts
         .iter_mut()
         .filter(|p| p.mesh == 0 && p.primitive > sockets.primitive)
     {
         p.primitive -= 1;
     }
-    avatar
+    Avatar::new(meshes, parts).expect("the lined-sockets variant's parts make an avatar")
 }
 
 /// The GLB and its truth.

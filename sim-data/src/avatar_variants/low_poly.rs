@@ -91,10 +91,9 @@ pub fn low_poly(base: &DefaultAvatar) -> (Avatar, VariantTruth) {
         parts.push(dpart(name, 1 + side, 0, &p, &t, &targets));
     }
     let meshes = ["Head", "EyeLeft", "EyeRight"].map(|n| arkit_mesh(n, &[]));
-    let avatar = sorted(Avatar {
-        meshes: meshes.to_vec(),
-        parts,
-    });
+    let avatar = sorted(
+        Avatar::new(meshes.to_vec(), parts).expect("the low-poly variant's parts make an avatar"),
+    );
     let mut truth = plain_truth(&avatar, 0, s.face.positions.len());
     truth.eyeball_parts = [1, 2];
     truth.teeth_part = None;

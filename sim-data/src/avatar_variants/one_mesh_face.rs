@@ -29,10 +29,8 @@ fn avatar() -> Avatar {
         group("gums", 4, &b.gums),
         base_part(b.tongue, 0, 5),
     ];
-    Avatar {
-        meshes: vec![arkit_mesh("Face", &[])],
-        parts,
-    }
+    Avatar::new(vec![arkit_mesh("Face", &[])], parts)
+        .expect("the one-mesh variant's parts make an avatar")
 }
 
 /// Gives each primitive of mesh 0 its own material: the core's writer
@@ -69,6 +67,6 @@ pub fn one_mesh_face() -> (Vec<u8>, VariantTruth) {
     let mut truth = plain_truth(&avatar, 0, base().true_correspondence.len());
     truth.eyeball_parts = [1, 2];
     truth.teeth_part = Some(3);
-    truth.jaw_moved_vertices = base().avatar.parts[base().teeth[1]].positions.len();
+    truth.jaw_moved_vertices = base().avatar.parts()[base().teeth[1]].positions.len();
     (glb.to_bytes(), truth)
 }

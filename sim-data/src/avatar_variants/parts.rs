@@ -18,7 +18,7 @@ pub fn base() -> &'static DefaultAvatar {
 /// A copy of the default avatar's part `k`, moved to mesh `mesh` as its
 /// primitive `primitive`.
 pub fn base_part(k: usize, mesh: usize, primitive: usize) -> AvatarPart {
-    let mut p = base().avatar.parts[k].clone();
+    let mut p = base().avatar.parts()[k].clone();
     p.mesh = mesh;
     p.primitive = primitive;
     p
@@ -103,16 +103,17 @@ pub fn glb_of(avatar: &Avatar, looks_given: Option<Vec<MeshLook>>) -> Vec<u8> {
 
 /// Sorts parts by mesh then primitive, the order the core's writer and
 /// reader keep.
-pub fn sorted(mut avatar: Avatar) -> Avatar {
-    avatar.parts.sort_by_key(|p| (p.mesh, p.primitive));
-    avatar
+pub fn sorted(avatar: Avatar) -> Avatar {
+    let (meshes, mut parts) = avatar.into_parts();
+    parts.sort_by_key(|p| (p.mesh, p.primitive));
+    Avatar::new(meshes, parts).expect("reordering parts keeps an avatar valid")
 }
 
 /// Bounding box `[min, max]` of every part's positions, each mapped by
 /// `to_world`.
 pub fn bounds(avatar: &Avatar, to_world: impl Fn(Vec3) -> Vec3) -> [Vec3; 2] {
     avatar
-        .parts
+        .parts()
         .iter()
         .flat_map(|p| p.positions.iter().map(|&v| to_world(v)))
         .fold(
@@ -133,10 +134,10 @@ pub fn base_eye_distance() -> f32 {
 /// what differs.
 pub fn plain_truth(avatar: &Avatar, head_part: usize, face_vertices: usize) -> VariantTruth {
     VariantTruth {
-        meshes: avatar.meshes.len(),
-        parts: avatar.parts.len(),
+        meshes: avatar.meshes().len(),
+        parts: avatar.parts().len(),
         head_part,
-        head_vertices: avatar.parts[head_part].positions.len(),
+        head_vertices: avatar.parts()[head_part].positions.len(),
         face_vertices,
         eyeball_parts: base().eyes,
         eyes_bone_driven: false,

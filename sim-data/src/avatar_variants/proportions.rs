@@ -25,6 +25,7 @@
 use super::parts::{base, bounds, glb_of, plain_truth};
 use super::truth::VariantTruth;
 use glam::{DVec3, Vec3};
+use likeness::avatar::Avatar;
 use likeness::avatar::registration::similarity::fit_rigid;
 
 /// Face width factor (x).
@@ -76,8 +77,8 @@ pub fn warp(p: DVec3) -> DVec3 {
 /// The GLB and its truth.
 pub fn other_proportions() -> (Vec<u8>, VariantTruth) {
     let b = base();
-    let mut avatar = b.avatar.clone();
-    for (k, part) in avatar.parts.iter_mut().enumerate() {
+    let (meshes, mut parts) = b.avatar.clone().into_parts();
+    for (k, part) in parts.iter_mut().enumerate() {
         if let Some(side) = b.eye_side(k) {
             let c = b.eye_centres[side].as_dvec3();
             let shift = (warp(c) - c).as_vec3();
@@ -123,6 +124,8 @@ pub fn other_proportions() -> (Vec<u8>, VariantTruth) {
             *p = warp(p.as_dvec3()).as_vec3();
         }
     }
+    let avatar =
+        Avatar::new(meshes, parts).expect("the other-proportions variant's parts make an avatar");
     let mut truth = plain_truth(&avatar, 0, b.true_correspondence.len());
     truth.world_bounds = bounds(&avatar, |v: Vec3| v);
     let [l, r] = b.eye_centres.map(|c| warp(c.as_dvec3()));

@@ -41,16 +41,20 @@ fn sort_by_x(part: &mut AvatarPart) {
 /// `tongue`) and how many of the merged part's vertices the jaw moves.
 fn avatar() -> (Avatar, usize) {
     let b = base();
-    let mut avatar = b.avatar.clone();
     let rows = [b.teeth[0], b.teeth[1], b.gums[0], b.gums[1]].map(|k| base_part(k, 3, 0));
     let lower = rows[1].positions.len() + rows[3].positions.len();
     let mut mouth = merge("TeethAndGums", 3, 0, &rows);
     sort_by_x(&mut mouth);
-    avatar.parts.retain(|p| p.mesh < 3);
-    avatar.parts.push(mouth);
-    avatar.parts.push(base_part(b.tongue, 4, 0));
-    avatar.meshes = [0, 1, 2, 3, 5].map(|m| b.avatar.meshes[m].clone()).to_vec();
-    avatar.meshes[3].name = Some("TeethAndGums".into());
+    let mut parts: Vec<AvatarPart> = b.avatar.parts().to_vec();
+    parts.retain(|p| p.mesh < 3);
+    parts.push(mouth);
+    parts.push(base_part(b.tongue, 4, 0));
+    let mut meshes = [0, 1, 2, 3, 5]
+        .map(|m| b.avatar.meshes()[m].clone())
+        .to_vec();
+    meshes[3].name = Some("TeethAndGums".into());
+    let avatar =
+        Avatar::new(meshes, parts).expect("the teeth-and-gums variant's parts make an avatar");
     (avatar, lower)
 }
 
@@ -60,7 +64,7 @@ pub fn teeth_gums_one_mesh() -> (Vec<u8>, VariantTruth) {
     let mut truth = plain_truth(&avatar, 0, base().true_correspondence.len());
     truth.teeth_share_mesh_with_gums = true;
     // The parts of meshes 0–2 (head, eyes), then the merged teeth.
-    truth.teeth_part = Some(avatar.parts.iter().filter(|p| p.mesh < 3).count());
+    truth.teeth_part = Some(avatar.parts().iter().filter(|p| p.mesh < 3).count());
     truth.jaw_moved_vertices = lower;
     let looks = vec![
         MeshLook::SKIN,

@@ -13,7 +13,7 @@ pub enum UpAxis {
 }
 
 /// What a reader must find in a test avatar. Part indices are those of
-/// `likeness::avatar::glb::read_avatar_bytes(..).avatar.parts` (parts
+/// `likeness::avatar::glb::read_avatar_bytes(..).avatar.parts()` (parts
 /// grouped by mesh in file order, each mesh placed once).
 #[derive(Clone, Debug, PartialEq)]
 pub struct VariantTruth {

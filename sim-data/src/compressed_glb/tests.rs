@@ -74,12 +74,12 @@ fn a_small_avatar_compresses_and_reads_back() {
     let target: Vec<Vec3> = (0..16)
         .map(|k| Vec3::new(0.0, -0.001 * k as f32, 0.0))
         .collect();
-    let avatar = Avatar {
-        meshes: vec![AvatarMesh {
+    let avatar = Avatar::new(
+        vec![AvatarMesh {
             name: Some("face".into()),
             target_names: vec!["jawOpen".into()],
         }],
-        parts: vec![AvatarPart {
+        vec![AvatarPart {
             name: "face".into(),
             mesh: 0,
             primitive: 0,
@@ -87,7 +87,8 @@ fn a_small_avatar_compresses_and_reads_back() {
             triangles: triangles.clone(),
             targets: vec![target.clone()],
         }],
-    };
+    )
+    .unwrap();
     let plain = new_avatar_glb(
         &avatar,
         &NewGlbOptions::default(),
@@ -96,7 +97,7 @@ fn a_small_avatar_compresses_and_reads_back() {
     .unwrap();
     let compressed = meshopt_compressed(&plain).unwrap();
     let read = read_avatar_bytes(&compressed, "c.glb").unwrap();
-    let part = &read.avatar.parts[0];
+    let part = &read.avatar.parts()[0];
     // Half the longest side is 0.015 m (the target moves 0.015 m too):
     // half a step of 0.015 / 32767.
     let tol = 0.015 / 65534.0 + 1e-7;

@@ -38,10 +38,10 @@ fn iris_and_pupil_sit_on_the_cornea_and_turn_with_the_eyeball() {
     let a = avatar();
     for side in 0..2 {
         let c = a.eye_centres[side].as_dvec3();
-        let eye = &a.avatar.parts[a.eyes[side]];
+        let eye = &a.avatar.parts()[a.eyes[side]];
         let sclera_front = eye.positions[0].as_dvec3();
         for (k, &part) in a.irises[side].iter().enumerate() {
-            let p = &a.avatar.parts[part];
+            let p = &a.avatar.parts()[part];
             assert_eq!(p.mesh, eye.mesh, "one mesh per eye");
             for q in &p.positions {
                 let q = q.as_dvec3();
@@ -70,7 +70,7 @@ fn iris_and_pupil_sit_on_the_cornea_and_turn_with_the_eyeball() {
 #[test]
 fn the_lips_wear_their_own_material_ending_on_the_vermilion_border() {
     let a = avatar();
-    let skin = &a.avatar.parts[a.skin];
+    let skin = &a.avatar.parts()[a.skin];
     let mask = face_mask();
     let tris = mask.topology.triangles();
     let uv = |v: u32| -> Option<[f64; 2]> {
@@ -141,7 +141,7 @@ fn the_nostrils_are_darkened_under_the_nose_and_only_there() {
     let a = avatar();
     let options = glb_options(a);
     let colours = options.part_colours[a.skin].as_ref().unwrap();
-    let skin = &a.avatar.parts[a.skin];
+    let skin = &a.avatar.parts()[a.skin];
     let mut dark = [0; 2];
     for ((p, c), &share) in skin.positions.iter().zip(colours).zip(&a.nostril_share) {
         if share > 0.99 {
@@ -165,7 +165,7 @@ fn the_face_shades_smoothly_across_the_masks_facets() {
     // normals written instead turn gradually: the largest turns between a
     // triangle's corners are far smaller.
     let a = avatar();
-    let skin = &a.avatar.parts[a.skin];
+    let skin = &a.avatar.parts()[a.skin];
     let own = likeness::avatar::glb::write_new::vertex_normals(&skin.positions, &skin.triangles);
     let shading = glb_options(a).part_normals[a.skin].clone().unwrap();
     assert_eq!(shading, a.skin_normals);
@@ -217,7 +217,7 @@ fn the_neck_under_the_chin_shades_without_streaks() {
     // Head triangles in front of the neck, from under the chin to 5 cm
     // below it.
     let a = avatar();
-    let skin = &a.avatar.parts[a.skin];
+    let skin = &a.avatar.parts()[a.skin];
     let own = likeness::avatar::glb::write_new::vertex_normals(&skin.positions, &skin.triangles);
     let face = a.true_correspondence.len() as u32;
     let under_chin = |v: u32| {

@@ -79,7 +79,7 @@ pub struct DefaultAvatar {
     pub face_outline: Vec<u32>,
     /// Skin vertices of the cut through neck and shoulders, in order.
     pub neck_bottom: Vec<u32>,
-    /// Index in `avatar.parts` of the skin.
+    /// Index in `avatar.parts()` of the skin.
     pub skin: usize,
     /// Index of the ears part.
     pub ears: usize,
@@ -416,7 +416,7 @@ fn build_default_avatar() -> DefaultAvatar {
         .map(|name| mesh(name, &all))
         .to_vec();
     DefaultAvatar {
-        avatar: Avatar { meshes, parts },
+        avatar: Avatar::new(meshes, parts).expect("the default avatar's parts make an avatar"),
         true_correspondence: face.on_mask.clone(),
         face_outline: face.rim.clone(),
         neck_bottom: skin.neck_bottom.clone(),
@@ -444,13 +444,13 @@ fn build_default_avatar() -> DefaultAvatar {
     }
 }
 
-/// The default avatar's materials, one per mesh in `avatar.meshes` order:
+/// The default avatar's materials, one per mesh in `avatar.meshes()` order:
 /// skin for the head, white for the eyeballs, tooth for the teeth, gum pink
 /// for the gums and the tongue. [`part_looks`] refines them.
 pub fn looks(avatar: &Avatar) -> Vec<likeness::avatar::glb::MeshLook> {
     use likeness::avatar::glb::MeshLook;
     avatar
-        .meshes
+        .meshes()
         .iter()
         .map(|m| match m.name.as_deref() {
             Some(n) if n.starts_with("eye") => MeshLook::EYE_WHITE,
@@ -505,10 +505,10 @@ fn material(name: &str) -> Option<([f32; 3], likeness::avatar::glb::MeshLook)> {
     Some(([*r, *g, *b], MeshLook::plain([*r, *g, *b, 1.0], *roughness)))
 }
 
-/// Each part's own material ([`PART_MATERIALS`]), in `avatar.parts` order.
+/// Each part's own material ([`PART_MATERIALS`]), in `avatar.parts()` order.
 pub fn part_looks(avatar: &Avatar) -> Vec<Option<(String, likeness::avatar::glb::MeshLook)>> {
     avatar
-        .parts
+        .parts()
         .iter()
         .map(|p| {
             let (_, name) = PART_MATERIALS.iter().find(|m| m.0 == p.name)?;
@@ -532,13 +532,13 @@ pub fn glb_options(built: &DefaultAvatar) -> likeness::avatar::glb::NewGlbOption
     let part_looks = part_looks(avatar);
     let skin_colour = material("skin").map_or([1.0; 3], |m| m.0);
     let nostril = Vec3::from(NOSTRIL_COLOUR) / Vec3::from(skin_colour);
-    let mut part_colours = vec![None; avatar.parts.len()];
+    let mut part_colours = vec![None; avatar.parts().len()];
     part_colours[built.skin] = Some(
         (built.nostril_share.iter())
             .map(|&n| Vec3::ONE.lerp(nostril, n))
             .collect(),
     );
-    let mut part_splits = vec![Vec::new(); avatar.parts.len()];
+    let mut part_splits = vec![Vec::new(); avatar.parts().len()];
     if let Some((_, look)) = material("lips") {
         part_splits[built.skin] = vec![likeness::avatar::glb::MaterialSplit {
             first_triangle: built.lips_from,
@@ -546,7 +546,7 @@ pub fn glb_options(built: &DefaultAvatar) -> likeness::avatar::glb::NewGlbOption
             look,
         }];
     }
-    let mut part_normals = vec![None; avatar.parts.len()];
+    let mut part_normals = vec![None; avatar.parts().len()];
     part_normals[built.skin] = Some(built.skin_normals.clone());
     likeness::avatar::glb::NewGlbOptions {
         looks: looks(avatar),

@@ -15,8 +15,8 @@ fn target<'a>(part: &'a AvatarPart, mesh: &AvatarMesh, name: &str) -> Option<&'a
 }
 
 fn part_target(a: &DefaultAvatar, part: usize, name: &str) -> Vec<Vec3> {
-    let p = &a.avatar.parts[part];
-    target(p, &a.avatar.meshes[p.mesh], name)
+    let p = &a.avatar.parts()[part];
+    target(p, &a.avatar.meshes()[p.mesh], name)
         .cloned()
         .unwrap_or_else(|| vec![Vec3::ZERO; p.positions.len()])
 }
@@ -29,7 +29,7 @@ fn default_avatar_has_about_twenty_thousand_vertices() {
 
 #[test]
 fn default_avatar_triangles_are_valid_and_not_degenerate() {
-    for p in &avatar().avatar.parts {
+    for p in avatar().avatar.parts() {
         assert!(!p.triangles.is_empty(), "{}", p.name);
         for t in &p.triangles {
             assert!(
@@ -51,7 +51,7 @@ fn default_avatar_closed_parts_face_outwards() {
     let mut closed = vec![a.ears, a.tongue];
     closed.extend(a.eyes.iter().chain(&a.teeth).chain(&a.gums));
     for i in closed {
-        let p = &a.avatar.parts[i];
+        let p = &a.avatar.parts()[i];
         // Signed volume by the divergence theorem: Σ a·(b × c) / 6 > 0.
         let volume: f32 = p
             .triangles
@@ -69,7 +69,7 @@ fn default_avatar_closed_parts_face_outwards() {
 fn default_avatar_face_lies_exactly_on_the_mask() {
     let a = avatar();
     let mask = face_mask();
-    let skin = &a.avatar.parts[a.skin];
+    let skin = &a.avatar.parts()[a.skin];
     assert!(a.true_correspondence.len() > 5_000);
     for (v, m) in a.true_correspondence.iter().enumerate() {
         let b = m.barycentric;
@@ -127,7 +127,7 @@ fn boundary_loops(triangles: &[[u32; 3]]) -> Vec<Vec<u32>> {
 #[test]
 fn default_avatar_skin_is_one_surface_with_four_openings() {
     let a = avatar();
-    let skin = &a.avatar.parts[a.skin];
+    let skin = &a.avatar.parts()[a.skin];
     let unique: BTreeSet<[u32; 3]> = skin
         .triangles
         .iter()
@@ -186,7 +186,7 @@ fn default_avatar_has_all_52_arkit_targets() {
     let a = avatar();
     let names: BTreeSet<&str> = a
         .avatar
-        .meshes
+        .meshes()
         .iter()
         .flat_map(|m| m.target_names.iter().map(String::as_str))
         .collect();
@@ -195,11 +195,14 @@ fn default_avatar_has_all_52_arkit_targets() {
     }
     assert_eq!(names.len(), 52);
     let expected: Vec<&str> = Blendshape::ALL.iter().map(|s| s.name()).collect();
-    for m in &a.avatar.meshes {
+    for m in a.avatar.meshes() {
         assert_eq!(m.target_names, expected);
     }
-    for p in &a.avatar.parts {
-        assert_eq!(p.targets.len(), a.avatar.meshes[p.mesh].target_names.len());
+    for p in a.avatar.parts() {
+        assert_eq!(
+            p.targets.len(),
+            a.avatar.meshes()[p.mesh].target_names.len()
+        );
         assert!(p.targets.iter().all(|t| t.len() == p.positions.len()));
     }
 }
@@ -222,7 +225,7 @@ fn default_avatar_jaw_open_moves_the_mandible_only() {
     assert!(least(a.teeth[1]) > 0.005 && least(a.tongue) > 0.005 && least(a.gums[1]) > 0.005);
     assert_eq!(moved(a.teeth[0]), 0.0);
     assert_eq!(moved(a.gums[0]), 0.0);
-    let skin = &a.avatar.parts[a.skin];
+    let skin = &a.avatar.parts()[a.skin];
     let d = part_target(a, a.skin, "jawOpen");
     let nf = a.true_correspondence.len();
     let (mut under_chin, mut top) = (0.0f32, 0.0f32);
@@ -238,7 +241,7 @@ fn default_avatar_jaw_open_moves_the_mandible_only() {
     assert_eq!(top, 0.0);
     // Lower teeth move as the mandible does: where the generic jaw joint
     // takes them.
-    let teeth = &a.avatar.parts[a.teeth[1]];
+    let teeth = &a.avatar.parts()[a.teeth[1]];
     let jaw = crate::shape_spec::GENERIC_JAW;
     let angle = crate::shape_spec::JAW_OPEN_ANGLE;
     for (p, d) in teeth
@@ -255,7 +258,7 @@ fn default_avatar_jaw_open_moves_the_mandible_only() {
 fn default_avatar_eye_look_rotates_one_eyeball_rigidly() {
     let a = avatar();
     for (side, name) in [(0, "eyeLookOutLeft"), (1, "eyeLookOutRight")] {
-        let eye = &a.avatar.parts[a.eyes[side]];
+        let eye = &a.avatar.parts()[a.eyes[side]];
         let d = part_target(a, a.eyes[side], name);
         let c = a.eye_centres[side];
         let moved: Vec<Vec3> = eye.positions.iter().zip(&d).map(|(p, d)| *p + *d).collect();
@@ -286,7 +289,7 @@ fn default_avatar_eye_look_rotates_one_eyeball_rigidly() {
 fn default_avatar_blink_closes_over_the_eyeball_without_entering_it() {
     let a = avatar();
     let mask = face_mask();
-    let skin = &a.avatar.parts[a.skin];
+    let skin = &a.avatar.parts()[a.skin];
     for (side, name) in [(0, "eyeBlinkLeft"), (1, "eyeBlinkRight")] {
         let d = part_target(a, a.skin, name);
         let c = a.eye_centres[side].as_dvec3();
@@ -323,8 +326,8 @@ fn default_avatar_blink_closes_over_the_eyeball_without_entering_it() {
 #[test]
 fn default_avatar_sockets_lie_behind_the_skin_around_the_eyeballs() {
     let a = avatar();
-    let skin = &a.avatar.parts[a.skin];
-    let sockets = &a.avatar.parts[a.sockets];
+    let skin = &a.avatar.parts()[a.skin];
+    let sockets = &a.avatar.parts()[a.sockets];
     for c in a.eye_centres {
         let c = c.as_dvec3();
         // The eyeball, turned any way, stays inside the lining.
@@ -350,8 +353,8 @@ fn default_avatar_sockets_lie_behind_the_skin_around_the_eyeballs() {
 #[test]
 fn default_avatar_mouth_lining_stays_behind_the_skin_and_around_the_mouth() {
     let a = avatar();
-    let skin = &a.avatar.parts[a.skin];
-    let lining = &a.avatar.parts[a.mouth_cavity];
+    let skin = &a.avatar.parts()[a.skin];
+    let lining = &a.avatar.parts()[a.mouth_cavity];
     // Every lining vertex lies behind the skin: the skin vertex nearest to
     // it in (x, y) is in front of it.
     for q in &lining.positions {
@@ -379,7 +382,7 @@ fn default_avatar_mouth_lining_stays_behind_the_skin_and_around_the_mouth() {
         q.length() < 1.0
     };
     for part in [a.teeth[0], a.teeth[1], a.tongue] {
-        let p = &a.avatar.parts[part];
+        let p = &a.avatar.parts()[part];
         let share =
             p.positions.iter().filter(|x| inside(**x)).count() as f64 / p.positions.len() as f64;
         assert!(share > 0.9, "{}: {share}", p.name);
@@ -389,7 +392,7 @@ fn default_avatar_mouth_lining_stays_behind_the_skin_and_around_the_mouth() {
 #[test]
 fn default_avatar_eyeballs_sit_behind_the_open_lids() {
     let a = avatar();
-    let skin = &a.avatar.parts[a.skin];
+    let skin = &a.avatar.parts()[a.skin];
     for side in 0..2 {
         let c = a.eye_centres[side].as_dvec3();
         let nearest = skin
@@ -407,8 +410,8 @@ fn default_avatar_eyeballs_sit_behind_the_open_lids() {
 #[test]
 fn default_avatar_no_shape_moves_the_back_of_the_head() {
     let a = avatar();
-    for (i, p) in a.avatar.parts.iter().enumerate() {
-        let names = &a.avatar.meshes[p.mesh].target_names;
+    for (i, p) in a.avatar.parts().iter().enumerate() {
+        let names = &a.avatar.meshes()[p.mesh].target_names;
         for (t, name) in p.targets.iter().zip(names) {
             for (x, d) in p.positions.iter().zip(t) {
                 if x.z < -0.09 || (i == a.skin && x.y > 0.09) {
@@ -422,7 +425,7 @@ fn default_avatar_no_shape_moves_the_back_of_the_head() {
 #[test]
 fn default_avatar_tongue_out_leaves_the_mouth_and_cheek_puff_inflates() {
     let a = avatar();
-    let tongue = &a.avatar.parts[a.tongue];
+    let tongue = &a.avatar.parts()[a.tongue];
     let d = part_target(a, a.tongue, "tongueOut");
     let tip = tongue
         .positions
@@ -432,7 +435,7 @@ fn default_avatar_tongue_out_leaves_the_mouth_and_cheek_puff_inflates() {
         .fold(f32::MIN, f32::max);
     let lips = face_mask().neutral[face_mask().landmarks.lower_lip[5] as usize].z;
     assert!(tip > lips, "tongue tip {tip}, lips {lips}");
-    let skin = &a.avatar.parts[a.skin];
+    let skin = &a.avatar.parts()[a.skin];
     let puff = part_target(a, a.skin, "cheekPuff");
     let outward = skin
         .positions
@@ -447,7 +450,7 @@ fn default_avatar_tongue_out_leaves_the_mouth_and_cheek_puff_inflates() {
 #[test]
 fn default_avatar_head_has_no_folds() {
     let a = avatar();
-    let skin = &a.avatar.parts[a.skin];
+    let skin = &a.avatar.parts()[a.skin];
     let nf = a.true_correspondence.len() as u32;
     let normal = |t: &[u32; 3]| {
         let [p, q, r] = t.map(|i| skin.positions[i as usize]);
@@ -493,11 +496,11 @@ fn default_avatar_glb_reads_back_with_all_52_targets_and_its_materials() {
     // The lips are a primitive of their own sharing the skin's vertices:
     // read back, one part again, with the skin's triangles.
     let built = &avatar().avatar;
-    assert_eq!(glb.avatar.parts.len(), built.parts.len());
+    assert_eq!(glb.avatar.parts().len(), built.parts().len());
     let skin = avatar().skin;
     assert_eq!(
-        glb.avatar.parts[skin].triangles,
-        built.parts[skin].triangles
+        glb.avatar.parts()[skin].triangles,
+        built.parts()[skin].triangles
     );
     assert_eq!(glb.splits[skin].len(), 1);
     assert_eq!(
@@ -510,7 +513,7 @@ fn default_avatar_glb_reads_back_with_all_52_targets_and_its_materials() {
 #[test]
 fn default_avatar_jaw_open_opens_a_rounded_mouth_that_mouth_close_closes_as_before() {
     let a = avatar();
-    let skin = &a.avatar.parts[a.skin];
+    let skin = &a.avatar.parts()[a.skin];
     let nf = a.true_correspondence.len() as u32;
     let (open, close) = (
         part_target(a, a.skin, "jawOpen"),
@@ -583,7 +586,7 @@ fn the_lids_margins_hide_the_sockets_and_stay_clear_of_the_eyes() {
     let mut sockets = Vec::new();
     let mut margins = Vec::new();
     for part in [a.skin, a.eyes[0], a.eyes[1], a.sockets] {
-        let p = &a.avatar.parts[part];
+        let p = &a.avatar.parts()[part];
         let o = positions.len() as u32;
         for (k, t) in p.triangles.iter().enumerate() {
             if part == a.sockets {
@@ -616,7 +619,7 @@ fn the_lids_margins_hide_the_sockets_and_stay_clear_of_the_eyes() {
     assert_eq!(with, 0, "the margins hide the sockets");
     // The margins' vertices stay clear of the eyeballs at rest, at every
     // blink weight and at every gaze.
-    let skin = &a.avatar.parts[a.skin];
+    let skin = &a.avatar.parts()[a.skin];
     for side in 0..2 {
         let c = a.eye_centres[side].as_dvec3();
         let blink = part_target(a, a.skin, ["eyeBlinkLeft", "eyeBlinkRight"][side]);

@@ -153,8 +153,8 @@ pub fn avatar() -> Avatar {
         triangles: triangles(),
         targets: Vec::new(),
     };
-    Avatar {
-        meshes: vec![
+    Avatar::new(
+        vec![
             AvatarMesh {
                 name: Some("head".into()),
                 target_names: Blendshape::ALL.iter().map(|s| s.name().into()).collect(),
@@ -164,6 +164,7 @@ pub fn avatar() -> Avatar {
                 target_names: Vec::new(),
             },
         ],
-        parts: vec![head, eye],
-    }
+        vec![head, eye],
+    )
+    .unwrap()
 }

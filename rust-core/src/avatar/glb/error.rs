@@ -1,6 +1,7 @@
 //! Everything that can go wrong reading or writing a glTF avatar, each case
 //! naming the file and where in it (mesh, primitive, accessor, vertex).
 
+use crate::avatar::InvalidAvatar;
 use crate::io::FileError;
 use std::io;
 use std::path::PathBuf;
@@ -172,6 +173,16 @@ pub enum GlbError {
         expected: usize,
         /// Targets on this one.
         found: usize,
+    },
+    /// The meshes read do not make an avatar ([`Avatar::new`]'s rules).
+    ///
+    /// [`Avatar::new`]: crate::avatar::Avatar::new
+    #[error("{file}: {source}")]
+    Avatar {
+        /// The file.
+        file: PathBuf,
+        /// The rule broken.
+        source: InvalidAvatar,
     },
     /// The new shapes given to a write do not fit the avatar, or the write
     /// would break something it cannot rewrite (an animation of the weights

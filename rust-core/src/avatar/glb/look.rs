@@ -22,14 +22,14 @@ use glam::Vec3;
 /// say (module docs).
 pub fn part_colours(glb: &GlbAvatar) -> Vec<Option<Vec<Vec3>>> {
     let Ok(document) = document_of(&glb.json, &glb.file) else {
-        return vec![None; glb.avatar.parts.len()];
+        return vec![None; glb.avatar.parts().len()];
     };
     let source = Source {
         file: &glb.file,
         buffers: &glb.buffers,
     };
     glb.avatar
-        .parts
+        .parts()
         .iter()
         .zip(&glb.splits)
         .map(|(part, splits)| {
@@ -140,10 +140,11 @@ mod tests {
             name: Some(name.into()),
             target_names: Vec::new(),
         };
-        let avatar = Avatar {
-            meshes: vec![mesh("skin"), mesh("eye")],
-            parts: vec![triangle(0), triangle(1)],
-        };
+        let avatar = Avatar::new(
+            vec![mesh("skin"), mesh("eye")],
+            vec![triangle(0), triangle(1)],
+        )
+        .unwrap();
         let tint = vec![Vec3::ONE, Vec3::new(1.0, 0.5, 0.5), Vec3::splat(0.25)];
         let options = NewGlbOptions {
             looks: vec![MeshLook::SKIN, MeshLook::EYE_WHITE],

@@ -50,9 +50,9 @@ use std::path::{Path, PathBuf};
 pub struct GlbAvatar {
     /// The meshes in world space.
     pub avatar: Avatar,
-    /// Where each of `avatar.parts` is placed (same order).
+    /// Where each of `avatar.parts()` is placed (same order).
     pub placements: Vec<Placement>,
-    /// For each of `avatar.parts` (same order), the further primitives that
+    /// For each of `avatar.parts()` (same order), the further primitives that
     /// share its vertices, in file order; empty for a part of one
     /// primitive.
     pub splits: Vec<Vec<PrimitiveSplit>>,
@@ -209,10 +209,10 @@ fn read(bytes: &[u8], file: &Path, folder: Option<&Path>) -> Result<GlbAvatar, G
         });
     }
     Ok(GlbAvatar {
-        avatar: Avatar {
-            meshes,
-            parts: out_parts,
-        },
+        avatar: Avatar::new(meshes, out_parts).map_err(|source| GlbError::Avatar {
+            file: file.to_path_buf(),
+            source,
+        })?,
         placements: out_placements,
         splits,
         file: file.to_path_buf(),
@@ -448,7 +448,7 @@ fn check_finite(
 /// ARKit's names.
 pub fn check_avatar(avatar: &GlbAvatar) -> Result<ArkitTargets, GlbError> {
     let file = avatar.file.clone();
-    if avatar.avatar.parts.iter().all(|p| p.targets.is_empty()) {
+    if avatar.avatar.parts().iter().all(|p| p.targets.is_empty()) {
         return Err(GlbError::NoMorphTargets { file });
     }
     let found = arkit_targets(&avatar.avatar);

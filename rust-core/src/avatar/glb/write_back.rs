@@ -141,12 +141,12 @@ pub fn written_back_glb(
         file,
         buffers: &avatar.buffers,
     };
-    for m in 0..avatar.avatar.meshes.len() {
-        if !avatar.avatar.parts.iter().any(|p| p.mesh == m) {
+    for m in 0..avatar.avatar.meshes().len() {
+        if !avatar.avatar.parts().iter().any(|p| p.mesh == m) {
             continue;
         }
         let plan = plan_mesh(avatar, shapes, m);
-        let old_count = avatar.avatar.meshes[m].target_names.len();
+        let old_count = avatar.avatar.meshes()[m].target_names.len();
         if plan.len() != old_count && weights_animated(&doc, m) {
             return Err(err(format!(
                 "mesh {m}: its morph weights are animated and its target count would change ({old_count} → {})",
@@ -158,21 +158,21 @@ pub fn written_back_glb(
             .as_array()
             .map_or(0, Vec::len);
         for p in 0..primitives {
-            let of_mesh = |k: &usize| avatar.avatar.parts[*k].mesh == m;
-            let own = (0..avatar.avatar.parts.len())
+            let of_mesh = |k: &usize| avatar.avatar.parts()[*k].mesh == m;
+            let own = (0..avatar.avatar.parts().len())
                 .filter(of_mesh)
-                .find(|&k| avatar.avatar.parts[k].primitive == p);
+                .find(|&k| avatar.avatar.parts()[k].primitive == p);
             let Some(k) = own else {
                 // A primitive sharing an earlier one's vertices (read.rs)
                 // shares its new accessors too.
-                let sharing = (0..avatar.avatar.parts.len())
+                let sharing = (0..avatar.avatar.parts().len())
                     .filter(of_mesh)
                     .find(|&k| avatar.splits[k].iter().any(|s| s.primitive == p));
                 let Some(k) = sharing else {
                     return Err(err(format!("mesh {m} primitive {p}: not read")));
                 };
                 let first =
-                    doc["meshes"][m]["primitives"][avatar.avatar.parts[k].primitive].clone();
+                    doc["meshes"][m]["primitives"][avatar.avatar.parts()[k].primitive].clone();
                 let prim = &mut doc["meshes"][m]["primitives"][p];
                 for key in ["attributes", "targets"] {
                     if !first[key].is_null() {
@@ -186,7 +186,7 @@ pub fn written_back_glb(
             };
             let linear = avatar.placements[k].linear();
             let inverse = linear.inverse();
-            let part = &avatar.avatar.parts[k];
+            let part = &avatar.avatar.parts()[k];
             let primitive = document
                 .meshes()
                 .nth(m)
@@ -272,7 +272,7 @@ pub fn written_back_glb(
 
 /// Every new shape fits the avatar's parts and is finite.
 fn check_shapes(avatar: &GlbAvatar, shapes: &NewShapes) -> Result<(), String> {
-    let parts = &avatar.avatar.parts;
+    let parts = avatar.avatar.parts();
     if let Some(rest) = shapes.rest() {
         if rest.len() != parts.len() {
             return Err(format!(
@@ -317,7 +317,7 @@ fn check_shapes(avatar: &GlbAvatar, shapes: &NewShapes) -> Result<(), String> {
 
 /// The targets mesh `m` is written with (the module's rules).
 fn plan_mesh(avatar: &GlbAvatar, shapes: &NewShapes, m: usize) -> Vec<Planned> {
-    let names = &avatar.avatar.meshes[m].target_names;
+    let names = &avatar.avatar.meshes()[m].target_names;
     let parsed: Vec<TargetName> = names.iter().map(|n| parse_target_name(n)).collect();
     let has_whole = |s: Blendshape| parsed.contains(&TargetName::Arkit(s));
     let mut done = [false; BLENDSHAPE_COUNT];
@@ -353,7 +353,7 @@ fn plan_mesh(avatar: &GlbAvatar, shapes: &NewShapes, m: usize) -> Vec<Planned> {
         };
         let moves = avatar
             .avatar
-            .parts
+            .parts()
             .iter()
             .zip(per_part)
             .any(|(part, d)| part.mesh == m && d.iter().any(|v| *v != Vec3::ZERO));

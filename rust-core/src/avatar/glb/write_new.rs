@@ -132,12 +132,17 @@ pub fn new_avatar_glb(
     let mut b = Builder::new();
     let mut meshes = Vec::new();
     let mut materials = Materials::default();
-    for (m, mesh) in avatar.meshes.iter().enumerate() {
+    for (m, mesh) in avatar.meshes().iter().enumerate() {
         let names = arkit_spelling(mesh);
         let name = mesh.name.clone().unwrap_or_else(|| format!("mesh {m}"));
         let mesh_look = options.looks.get(m).copied().unwrap_or(MeshLook::GREY);
         let mut primitives = Vec::new();
-        for (k, part) in avatar.parts.iter().enumerate().filter(|(_, p)| p.mesh == m) {
+        for (k, part) in avatar
+            .parts()
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| p.mesh == m)
+        {
             let material = match options.part_looks.get(k) {
                 Some(Some((own, look))) => materials.index(own, *look),
                 _ => materials.index(&name, mesh_look),
@@ -291,14 +296,14 @@ fn check(avatar: &Avatar, file: &Path) -> Result<(), GlbError> {
             what,
         })
     };
-    for m in 0..avatar.meshes.len() {
-        if !avatar.parts.iter().any(|p| p.mesh == m) {
+    for m in 0..avatar.meshes().len() {
+        if !avatar.parts().iter().any(|p| p.mesh == m) {
             return err(format!("mesh {m} has no parts"));
         }
     }
-    for (k, part) in avatar.parts.iter().enumerate() {
+    for (k, part) in avatar.parts().iter().enumerate() {
         let n = part.positions.len();
-        let Some(mesh) = avatar.meshes.get(part.mesh) else {
+        let Some(mesh) = avatar.meshes().get(part.mesh) else {
             return err(format!("part {k}: mesh {} does not exist", part.mesh));
         };
         if n == 0 || part.triangles.is_empty() {

@@ -34,6 +34,7 @@
 
 use super::lid_contacts::{LidClosingError, LidContact, least_energy_closing};
 use crate::geometry::edge_distance::edge_distances;
+use crate::geometry::laplacian::{normal_lower, uniform_row};
 use crate::geometry::one_ring::one_rings;
 use crate::geometry::sparse_cholesky::{self, FactorError};
 use faer::Mat;
@@ -84,37 +85,23 @@ impl AdjacentStep {
         }
         let rows: Vec<Row> = row_vertices
             .iter()
-            .map(|r| {
-                let around = &neighbours[r];
+            .map(|&r| {
                 let mut row = Row {
                     on_region: Vec::new(),
                     on_face: Vec::new(),
                 };
-                let mut put = |v: u32, value: f64| {
+                for (v, value) in uniform_row(r, &neighbours[&r]) {
                     if let Some(&i) = local.get(&v) {
                         row.on_region.push((i, value));
                     } else if face[v as usize] {
                         row.on_face.push((v, value));
                     }
-                };
-                put(*r, around.len() as f64);
-                for u in around {
-                    put(*u, -1.0);
                 }
                 row
             })
             .collect();
         let m = region.len();
-        let mut entries = Vec::new();
-        for row in &rows {
-            for &(a, x) in &row.on_region {
-                for &(b, y) in &row.on_region {
-                    if a >= b {
-                        entries.push(Triplet::new(a, b, x * y));
-                    }
-                }
-            }
-        }
+        let mut entries = normal_lower(rows.iter().map(|row| row.on_region.as_slice()));
         // A tiny diagonal keeps a piece of N that touches nothing outside
         // itself definite (it then stays at C = 0).
         for i in 0..m {

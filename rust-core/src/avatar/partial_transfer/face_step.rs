@@ -40,6 +40,7 @@
 use super::lid_contacts::{LidClosingError, LidContact, least_energy_closing};
 use crate::avatar::registration::CorrespondenceMap;
 use crate::geometry::deformation_gradient::{RestTriangle, hat_gradients, triangle_area};
+use crate::geometry::laplacian::cotangent_lower;
 use crate::geometry::sparse_cholesky::{self, FactorError};
 use faer::Mat;
 use faer::linalg::solvers::Solve;
@@ -142,18 +143,15 @@ impl FaceStep {
         if patch.is_empty() {
             return Err(FaceStepError::EmptyPatch);
         }
+        let weighted: Vec<[DVec3; 3]> = hats
+            .iter()
+            .zip(&areas)
+            .map(|(hat, a)| hat.map(|g| a * g))
+            .collect();
+        let mut entries = cotangent_lower(&patch, &hats, &weighted, |v| Some(v as usize));
         let mut diagonal = vec![0.0; n];
-        let mut entries = Vec::with_capacity(9 * patch.len() + n);
-        for ((t, hat), a) in patch.iter().zip(&hats).zip(&areas) {
-            for k in 0..3 {
-                diagonal[t[k] as usize] += a * hat[k].length_squared();
-                for i in 0..3 {
-                    let (row, col) = (t[k] as usize, t[i] as usize);
-                    if row >= col {
-                        entries.push(Triplet::new(row, col, a * hat[k].dot(hat[i])));
-                    }
-                }
-            }
+        for e in entries.iter().filter(|e| e.row == e.col) {
+            diagonal[e.row] += e.val;
         }
         // A vertex in no patch triangle is held by the anchor alone, at a
         // weight that keeps the system definite.

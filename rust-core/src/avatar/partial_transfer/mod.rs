@@ -217,7 +217,7 @@ impl<'a> Scene<'a> {
         let positions: Vec<DVec3> = avatar.positions().iter().map(|p| p.as_dvec3()).collect();
         let offsets = avatar.vertex_offsets();
         let mut in_face_parts = vec![false; positions.len()];
-        for &i in &registration.face_parts {
+        for &i in &registration.face_parts() {
             if i + 1 < offsets.len() {
                 in_face_parts[offsets[i]..offsets[i + 1]].fill(true);
             }
@@ -444,7 +444,7 @@ fn hold_rigid_pieces(
         scene.avatar,
         &scene.positions,
         &own,
-        &scene.registration.face_parts,
+        &scene.registration.face_parts(),
     );
     let removed = pieces
         .iter()

@@ -54,7 +54,7 @@ pub fn rigid_pieces(
                 .all(|d| rigid_deviation(positions, d, vertices) <= tolerance)
     };
     let mut pieces: Vec<RigidPiece> = Vec::new();
-    for (i, part) in avatar.parts.iter().enumerate() {
+    for (i, part) in avatar.parts().iter().enumerate() {
         if face_parts.contains(&i) {
             continue;
         }
@@ -93,7 +93,7 @@ pub fn wholly_rigid_parts(avatar: &Avatar, pieces: &[RigidPiece]) -> Vec<usize> 
             *slot = true;
         }
     }
-    (0..avatar.parts.len())
+    (0..avatar.parts().len())
         .filter(|&i| {
             offsets[i] < offsets[i + 1] && in_piece[offsets[i]..offsets[i + 1]].iter().all(|&x| x)
         })
@@ -251,17 +251,18 @@ mod tests {
             triangles: fan(points.len() as u32),
             targets: Vec::new(),
         };
-        let avatar = Avatar {
-            meshes: vec![AvatarMesh {
+        let avatar = Avatar::new(
+            vec![AvatarMesh {
                 name: None,
                 target_names: Vec::new(),
             }],
-            parts: vec![
+            vec![
                 part("sclera", &sclera),
                 part("iris", &iris),
                 part("hat", &hat),
             ],
-        };
+        )
+        .unwrap();
         let rest: Vec<DVec3> = [sclera, iris, hat].concat();
         let eye = 0..52;
         let turn = |m: DMat3| -> Vec<DVec3> {

@@ -107,7 +107,7 @@ pub fn follow_skin(
     let n = positions.len();
     let offsets = avatar.vertex_offsets();
     let mut on_skin = vec![false; n];
-    for &k in &registration.face_parts {
+    for &k in &registration.face_parts() {
         if let Some(range) = offsets.get(k).zip(offsets.get(k + 1)) {
             on_skin[*range.0..*range.1].fill(true);
         }
@@ -117,7 +117,8 @@ pub fn follow_skin(
     // Pieces off the skin: connected components of the other triangles.
     let off_skin: Vec<[u32; 3]> = avatar
         .triangles()
-        .into_iter()
+        .iter()
+        .copied()
         .filter(|t| t.iter().all(|&v| !on_skin[v as usize]))
         .collect();
     let all_pieces: Vec<Vec<u32>> = component_vertices(n, &off_skin)
@@ -214,7 +215,7 @@ pub fn follow_skin(
     }
 
     // Near the skin, a piece that bends stays on it.
-    let skin_triangles = avatar.triangles_of(&registration.face_parts);
+    let skin_triangles = avatar.part_triangles(&registration.face_parts());
     let grid = TriangleGrid::new(positions, &skin_triangles);
     let (hold, free) = (HOLD_MM * to_avatar, FREE_MM * to_avatar);
     let own = avatar.moving_target_displacements();

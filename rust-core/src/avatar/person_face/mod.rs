@@ -160,23 +160,22 @@ pub fn take_face(
     // What the skin holds.
     let eyeballs = follow_skin(avatar, &positions, registration, &mut field, to_avatar);
 
-    let mut taken = avatar.clone();
-    let offsets = avatar.vertex_offsets();
-    for (k, part) in taken.parts.iter_mut().enumerate() {
-        for (p, u) in part.positions.iter_mut().zip(&field[offsets[k]..]) {
-            *p += u.as_vec3();
-        }
-    }
+    let taken = avatar
+        .with_rest_moved(&field)
+        .map_err(|_| TakeFaceError::Unsolved)?;
     let new_positions: Vec<DVec3> = positions.iter().zip(&field).map(|(p, u)| *p + *u).collect();
-    let mut moved_registration = registration.clone();
-    let mut fits = Vec::with_capacity(expected);
-    for (i, point) in points.iter().enumerate() {
-        let change = at(point, &field).unwrap_or(change_at_mask[i]);
-        moved_registration.mask_on_avatar[i] += change;
-        if let Some(p) = at(point, &new_positions) {
-            fits.push((p - wanted[i]).length() / to_avatar);
-        }
-    }
+    let moved_registration = registration
+        .with_mask_moved(&taken, |i| {
+            at(&points[i], &field).unwrap_or(change_at_mask[i])
+        })
+        .map_err(|_| TakeFaceError::Unsolved)?;
+    let fits: Vec<f64> = points
+        .iter()
+        .enumerate()
+        .filter_map(|(i, point)| {
+            Some((at(point, &new_positions)? - wanted[i]).length() / to_avatar)
+        })
+        .collect();
     let largest = field.iter().map(|u| u.length()).fold(0.0, f64::max) / to_avatar;
     Ok(TakenFace {
         avatar: taken,

@@ -27,6 +27,7 @@
 //! out, are held by the mask's rims like every other point.
 
 use crate::geometry::connected_components::component_vertices;
+use crate::geometry::laplacian::{normal_lower, uniform_row};
 use crate::geometry::one_ring::one_rings;
 use crate::geometry::self_intersection::intersecting_pairs;
 use crate::geometry::sparse_cholesky;
@@ -127,25 +128,20 @@ pub fn rest_field(
         rows.extend(neighbours[v].iter().copied());
     }
     let m = inside.len();
-    let mut entries = Vec::new();
-    let mut diagonal = 0.0;
-    for r in &rows {
-        let around = &neighbours[r];
-        let row: Vec<(usize, f64)> = std::iter::once((*r, around.len() as f64))
-            .chain(around.iter().map(|u| (*u, -1.0)))
-            .filter_map(|(v, x)| Some((*local.get(&v)?, x)))
-            .collect();
-        for &(a, x) in &row {
-            for &(b, y) in &row {
-                if a >= b {
-                    entries.push(Triplet::new(a, b, x * y));
-                }
-                if a == b {
-                    diagonal += x * y;
-                }
-            }
-        }
-    }
+    let laplacian_rows: Vec<Vec<(usize, f64)>> = rows
+        .iter()
+        .map(|&r| {
+            uniform_row(r, &neighbours[&r])
+                .filter_map(|(v, x)| Some((*local.get(&v)?, x)))
+                .collect()
+        })
+        .collect();
+    let mut entries = normal_lower(laplacian_rows.iter().map(|r| r.as_slice()));
+    let diagonal: f64 = entries
+        .iter()
+        .filter(|e| e.row == e.col)
+        .map(|e| e.val)
+        .sum();
     let w = POINT_WEIGHT * diagonal / m.max(1) as f64;
     let mut rhs = Mat::<f64>::zeros(m, 3);
     for (corners, beta, d) in points {

@@ -5,12 +5,13 @@
 //! [`FaceRegistration`] as bincode; anything unreadable is treated as a
 //! miss (the registration is then redone and the file rewritten).
 
-use super::find_face::FaceRegistration;
+use super::find_face::{FaceRegistration, FoundFace};
+use crate::avatar::model::Avatar;
 use crate::io::atomic_write::write_atomically;
 use std::path::{Path, PathBuf};
 
 /// First bytes of a cache file.
-pub const MAGIC: &[u8; 8] = b"LKFACE01";
+pub const MAGIC: &[u8; 8] = b"LKFACE02";
 
 /// Largest cache file read (bytes): far above a 100k-vertex avatar's map.
 pub const MAX_BYTES: u64 = 256 << 20;
@@ -28,8 +29,15 @@ fn config() -> bincode::config::Configuration<
     bincode::config::standard().with_limit()
 }
 
-/// The cached registration for `key` in `dir`, if a readable one is there.
-pub fn load(dir: &Path, key: &str) -> Option<FaceRegistration> {
+/// The cached registration for `key` in `dir`, if a readable one is there
+/// and it fits `avatar` and a mask of `mask_vertices` vertices
+/// ([`FaceRegistration::new`]).
+pub fn load(
+    dir: &Path,
+    key: &str,
+    avatar: &Avatar,
+    mask_vertices: usize,
+) -> Option<FaceRegistration> {
     let path = cache_path(dir, key);
     let len = std::fs::metadata(&path).ok()?.len();
     if len > MAX_BYTES {
@@ -37,8 +45,12 @@ pub fn load(dir: &Path, key: &str) -> Option<FaceRegistration> {
     }
     let bytes = std::fs::read(&path).ok()?;
     let payload = bytes.strip_prefix(MAGIC.as_slice())?;
-    let (registration, used) = bincode::serde::decode_from_slice(payload, config()).ok()?;
-    (used == payload.len()).then_some(registration)
+    let (found, used): (FoundFace, usize) =
+        bincode::serde::decode_from_slice(payload, config()).ok()?;
+    if used != payload.len() {
+        return None;
+    }
+    FaceRegistration::new(found, avatar, mask_vertices).ok()
 }
 
 /// Stores `registration` for `key` in `dir` (created if missing), written

@@ -76,7 +76,7 @@ pub fn find_eyeballs(
         .map(|d| d.length())
         .fold(0.0, f64::max);
     let mut pieces: Vec<Vec<u32>> = Vec::new();
-    for (i, part) in avatar.parts.iter().enumerate() {
+    for (i, part) in avatar.parts().iter().enumerate() {
         let o = offsets[i] as u32;
         for c in component_vertices(part.positions.len(), &part.triangles) {
             if c.len() >= 3 {

@@ -36,6 +36,7 @@ use super::lip_sides::LipSides;
 use super::lips_parting::{STILL, WITH_JAW, lips_parting};
 use super::mask_holes::{boundary_edges, mouth_rim};
 use super::nonrigid::{Landmark, MIN_NORMAL_DOT, SEARCH_RADIUS, register_nonrigid, vertex_normals};
+use super::part_roles::{MouthPlace, PartRole, part_roles};
 use super::rigid_icp::icp_with_scale;
 use super::similarity::{Similarity, fit_similarity};
 use crate::arkit::{Blendshape, Blendshapes};
@@ -134,11 +135,16 @@ pub enum RegistrationError {
         "the non-rigid registration could not be solved (no part of the mask matched the avatar)"
     )]
     Unsolvable,
+    /// What the search found does not fit the avatar (a mistake in the
+    /// search itself).
+    #[error("the face found does not fit the avatar: {0}")]
+    Invalid(InvalidRegistration),
 }
 
-/// The face found on an avatar.
+/// What the search for a face found, as plain data: [`FaceRegistration::new`]
+/// checks it against the avatar and the mask it is for.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct FaceRegistration {
+pub struct FoundFace {
     /// Mask (metres, ARKit's face coordinates) → avatar (its units).
     pub similarity: Similarity,
     /// The mask's vertices registered onto the avatar (avatar units).
@@ -152,26 +158,187 @@ pub struct FaceRegistration {
     pub residual_max_mm: f64,
     /// ICP iterations run.
     pub icp_iterations: usize,
-    /// Parts taken wholly for eyeballs (indices into `Avatar::parts`).
-    pub eyeball_parts: Vec<usize>,
-    /// Each eyeball found ([`super::eyeballs`]): its avatar vertices, in
-    /// whatever parts they are.
+    /// Each part's role ([`super::part_roles`]), in [`Avatar::parts`]
+    /// order.
+    pub roles: Vec<PartRole>,
+    /// Each eyeball found ([`super::eyeballs`]): its avatar vertices,
+    /// increasing, in whatever parts they are.
     pub eyeballs: Vec<Vec<u32>>,
     /// Share of the mask's vertices that ended on the avatar's skin.
     pub coverage: f64,
     /// Stiffness stages and closest-point steps of the non-rigid fit.
     pub nonrigid_steps: (usize, usize),
-    /// Parts the face region was taken from.
-    pub face_parts: Vec<usize>,
     /// Time the registration took (s).
     pub seconds: f64,
 }
 
+/// The face found on an avatar, checked against it: every index it holds
+/// names a part, a vertex or a mask triangle that exists. Read its data
+/// through [`FoundFace`]'s fields (it dereferences to it).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(transparent)]
+pub struct FaceRegistration(FoundFace);
+
+/// Why a [`FoundFace`] does not fit the avatar or the mask it is used
+/// with (a cache file from elsewhere, a mistake in a test).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum InvalidRegistration {
+    /// Not one role per part of the avatar.
+    #[error("{found} part roles for an avatar of {expected} parts")]
+    Roles {
+        /// Roles given.
+        found: usize,
+        /// Parts of the avatar.
+        expected: usize,
+    },
+    /// Not one registered position per mask vertex.
+    #[error("{found} registered mask vertices for a mask of {expected}")]
+    MaskSize {
+        /// Positions given.
+        found: usize,
+        /// Vertices of the mask.
+        expected: usize,
+    },
+    /// A number that must be finite is not, or the scale is not positive.
+    #[error("{0} is not finite (or the scale not positive)")]
+    NotFinite(&'static str),
+    /// An avatar vertex index past the avatar's end, or a list that must
+    /// increase does not.
+    #[error("{what}: vertex {vertex} is past the avatar's {vertices} or out of order")]
+    Vertex {
+        /// `eyeball N` or `face region`.
+        what: String,
+        /// The vertex.
+        vertex: u32,
+        /// Vertices of the avatar.
+        vertices: usize,
+    },
+    /// A mask triangle, or a vertex of one, out of range.
+    #[error("the map's mask triangle {0} is out of range")]
+    MaskTriangle(usize),
+}
+
 impl FaceRegistration {
+    /// `found`, checked against `avatar` and a mask of `mask_vertices`
+    /// vertices: one role per part; one registered position per mask
+    /// vertex, all finite, as the similarity; eyeballs and the face region
+    /// of increasing avatar vertices; the map's triangles on the mask and
+    /// its points on its triangles.
+    pub fn new(
+        found: FoundFace,
+        avatar: &Avatar,
+        mask_vertices: usize,
+    ) -> Result<FaceRegistration, InvalidRegistration> {
+        let parts = avatar.parts().len();
+        if found.roles.len() != parts {
+            return Err(InvalidRegistration::Roles {
+                found: found.roles.len(),
+                expected: parts,
+            });
+        }
+        if found.mask_on_avatar.len() != mask_vertices {
+            return Err(InvalidRegistration::MaskSize {
+                found: found.mask_on_avatar.len(),
+                expected: mask_vertices,
+            });
+        }
+        let s = found.similarity;
+        let finite = s.scale.is_finite() && s.rotation.is_finite() && s.translation.is_finite();
+        if !(finite && s.scale > 0.0) {
+            return Err(InvalidRegistration::NotFinite("the similarity"));
+        }
+        if found.mask_on_avatar.iter().any(|p| !p.is_finite()) {
+            return Err(InvalidRegistration::NotFinite("the registered mask"));
+        }
+        let vertices = avatar.vertex_count();
+        let increasing = |what: String, list: &mut dyn Iterator<Item = u32>| {
+            let mut last: Option<u32> = None;
+            for v in list {
+                if v as usize >= vertices || last.is_some_and(|l| l >= v) {
+                    return Err(InvalidRegistration::Vertex {
+                        what,
+                        vertex: v,
+                        vertices,
+                    });
+                }
+                last = Some(v);
+            }
+            Ok(())
+        };
+        for (k, eyeball) in found.eyeballs.iter().enumerate() {
+            increasing(format!("eyeball {k}"), &mut eyeball.iter().copied())?;
+        }
+        increasing(
+            "face region".into(),
+            &mut found.map.face.iter().map(|f| f.vertex),
+        )?;
+        let map = &found.map;
+        if let Some(t) = map
+            .mask_triangles
+            .iter()
+            .position(|t| t.iter().any(|&v| v as usize >= mask_vertices))
+        {
+            return Err(InvalidRegistration::MaskTriangle(t));
+        }
+        if let Some(f) = map.face.iter().find(|f| {
+            f.triangle as usize >= map.mask_triangles.len()
+                || f.barycentric.iter().any(|b| !b.is_finite())
+        }) {
+            return Err(InvalidRegistration::MaskTriangle(f.triangle as usize));
+        }
+        Ok(FaceRegistration(found))
+    }
+
     /// The registered mask's lips ([`LipSides`]), for keeping each lip's
     /// motion on its own side of the mouth's slit.
     pub fn lip_sides(&self) -> LipSides {
         LipSides::of_mask(&self.mask_on_avatar, &self.map.mask_triangles)
+    }
+
+    /// The parts of role `role`, increasing.
+    pub fn parts_with(&self, role: PartRole) -> Vec<usize> {
+        (0..self.roles.len())
+            .filter(|&i| self.roles[i] == role)
+            .collect()
+    }
+
+    /// The parts the face region was taken from: the skin.
+    pub fn face_parts(&self) -> Vec<usize> {
+        self.parts_with(PartRole::Skin)
+    }
+
+    /// The parts taken wholly for eyeballs.
+    pub fn eyeball_parts(&self) -> Vec<usize> {
+        self.parts_with(PartRole::Eyeball)
+    }
+
+    /// The same registration with the mask's registered vertices moved by
+    /// `by` (one displacement per mask vertex; the person's face taken on
+    /// the avatar moves the skin under them), checked again.
+    pub fn with_mask_moved(
+        &self,
+        avatar: &Avatar,
+        by: impl Fn(usize) -> DVec3,
+    ) -> Result<FaceRegistration, InvalidRegistration> {
+        let mut found = self.0.clone();
+        for (i, p) in found.mask_on_avatar.iter_mut().enumerate() {
+            *p += by(i);
+        }
+        let n = found.mask_on_avatar.len();
+        FaceRegistration::new(found, avatar, n)
+    }
+
+    /// The data, to store or to change and check again.
+    pub fn into_found(self) -> FoundFace {
+        self.0
+    }
+}
+
+impl std::ops::Deref for FaceRegistration {
+    type Target = FoundFace;
+
+    fn deref(&self) -> &FoundFace {
+        &self.0
     }
 }
 
@@ -261,10 +428,8 @@ pub fn find_face(
             .map(|p| (*p - centre).length())
             .fold(0.0, f64::max);
     let mut near_triangles: Vec<([u32; 3], usize)> = Vec::new();
-    for (i, part) in avatar.parts.iter().enumerate() {
-        let o = offsets[i] as u32;
-        for t in &part.triangles {
-            let t = t.map(|v| v + o);
+    for i in 0..avatar.parts().len() {
+        for t in avatar.part_triangles(&[i]) {
             if t.iter()
                 .any(|&v| (positions[v as usize] - centre).length() <= reach)
             {
@@ -355,7 +520,7 @@ pub fn find_face(
 
     // Each kept vertex votes for the part of its compatible closest point
     // (the lips' vertices for the lips, not the gums behind them).
-    let mut hits = vec![0usize; avatar.parts.len()];
+    let mut hits = vec![0usize; avatar.parts().len()];
     let normals = vertex_normals(&registered.positions, mask.triangles());
     let search = SEARCH_RADIUS * reach / REACH;
     for ((p, normal), _) in registered
@@ -372,10 +537,10 @@ pub fn find_face(
         }
     }
     let needed = FACE_PART_SHARE * registered.positions.len() as f64;
-    let face_parts: Vec<usize> = (0..avatar.parts.len())
+    let face_parts: Vec<usize> = (0..avatar.parts().len())
         .filter(|&i| hits[i] as f64 >= needed)
         .collect();
-    let face_triangles = avatar.triangles_of(&face_parts);
+    let face_triangles = avatar.part_triangles(&face_parts);
     let avatar_normals = vertex_normals(&positions, &face_triangles);
     let candidates = face_parts
         .iter()
@@ -389,24 +554,35 @@ pub fn find_face(
         FACE_TOLERANCE_MM / to_mm,
         &face_triangles,
     );
-    let eyeball_parts = (0..avatar.parts.len())
+    let eyeball_parts: Vec<usize> = (0..avatar.parts().len())
         .filter(|&i| offsets[i] < offsets[i + 1])
         .filter(|&i| (offsets[i]..offsets[i + 1]).all(|v| is_eyeball[v]))
         .collect();
-    Ok(FaceRegistration {
+    let slit = mouth_rim(&registered.positions, &boundary_edges(mask.triangles()));
+    let mouth = MouthPlace {
+        centre: slit
+            .iter()
+            .map(|&v| registered.positions[v as usize])
+            .sum::<DVec3>()
+            / slit.len().max(1) as f64,
+        forward: (icp.similarity.rotation * DVec3::Z).normalize_or_zero(),
+        per_mm: icp.similarity.scale / 1000.0,
+    };
+    let roles = part_roles(avatar, &face_parts, &eyeball_parts, mouth);
+    let found = FoundFace {
         similarity: icp.similarity,
         mask_on_avatar: registered.positions,
         map,
         residual_mean_mm,
         residual_max_mm,
         icp_iterations: icp.iterations,
-        eyeball_parts,
+        roles,
         eyeballs,
         coverage,
         nonrigid_steps: (registered.stages, registered.steps),
-        face_parts,
         seconds: started.elapsed().as_secs_f64(),
-    })
+    };
+    FaceRegistration::new(found, avatar, mask.vertex_count()).map_err(RegistrationError::Invalid)
 }
 
 /// The mask's slit held where the avatar's lips part
@@ -519,7 +695,7 @@ fn uncovered_region(neutral: &[DVec3], kept: &[bool]) -> String {
 
 /// Version of the registration's rules: part of the cache key, so a cached
 /// result from older rules is never taken for a new one.
-pub const REGISTRATION_VERSION: u32 = 6;
+pub const REGISTRATION_VERSION: u32 = 7;
 
 /// The key a registration is cached under: the rules' version, the
 /// avatar's vertex count and a CRC-32 of everything the registration
@@ -537,7 +713,7 @@ pub fn cache_key(avatar: &Avatar, rig: &Blendshapes) -> String {
             bytes.extend_from_slice(&x.to_le_bytes());
         }
     };
-    for part in &avatar.parts {
+    for part in avatar.parts() {
         bytes.clear();
         bytes.extend_from_slice(&(part.positions.len() as u64).to_le_bytes());
         for p in &part.positions {
@@ -552,7 +728,7 @@ pub fn cache_key(avatar: &Avatar, rig: &Blendshapes) -> String {
         }
         hasher.update(&bytes);
     }
-    for mesh in &avatar.meshes {
+    for mesh in avatar.meshes() {
         for name in &mesh.target_names {
             hasher.update(name.as_bytes());
             hasher.update(&[0]);

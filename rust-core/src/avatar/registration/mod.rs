@@ -13,6 +13,7 @@
 //! | §3.3, the mask's own shape | its outline, eye openings and mouth slit | [`mask_holes`] |
 //! | (beyond the paper) each lip takes its own lip's motion at the mouth's slit | which lip a mask triangle at the slit belongs to | [`lip_sides`] |
 //! | (beyond the paper) the mask's slit held where the avatar's lips part | the parting, by the avatar's own jawOpen | [`lips_parting`] |
+//! | (beyond the paper) what each part is: skin, eyeball, teeth, tongue | by the registration and the avatar's own shapes | [`part_roles`] |
 //! | §3.3, once per avatar topology | the whole search, its report and errors, the cache key | [`mod@find_face`] |
 //! | §3.3 "computed only once" | the registration kept in a file per avatar | [`cache`] |
 pub mod cache;
@@ -24,9 +25,13 @@ pub mod lip_sides;
 pub mod lips_parting;
 pub mod mask_holes;
 pub mod nonrigid;
+pub mod part_roles;
 pub mod rigid_icp;
 pub mod similarity;
 
 pub use correspondence::{CorrespondenceMap, FaceVertex};
-pub use find_face::{FaceRegistration, RegistrationError, find_face};
+pub use find_face::{
+    FaceRegistration, FoundFace, InvalidRegistration, RegistrationError, find_face,
+};
+pub use part_roles::PartRole;
 pub use similarity::Similarity;

@@ -105,11 +105,11 @@
 //! | (ours) | the translation gradients do not see, per component | `translation.rs` |
 
 use super::deformation_gradient::{RestTriangle, hat_gradients, triangle_area};
+use super::laplacian::cotangent_lower;
 use super::sparse_cholesky::{self, FactorError};
 use super::topology::{GeometryError, Topology, TopologyError};
 use faer::Mat;
 use faer::linalg::solvers::Solve;
-use faer::sparse::Triplet;
 use faer::sparse::linalg::solvers::Llt;
 use glam::{DMat3, DVec3};
 
@@ -290,18 +290,10 @@ impl DeformationTransfer {
         }
 
         // Lower triangle of L over the unknowns; duplicates are summed.
-        let mut entries = Vec::with_capacity(6 * triangles.len());
-        for ((tri, g), wg) in triangles.iter().zip(&gradients).zip(&weighted_gradients) {
-            for k in 0..3 {
-                for i in 0..3 {
-                    let (row, col) = (unknown[tri[k] as usize], unknown[tri[i] as usize]);
-                    if row != PINNED && col != PINNED && row >= col {
-                        // A_t ∇φ_k · ∇φ_i
-                        entries.push(Triplet::new(row as usize, col as usize, wg[k].dot(g[i])));
-                    }
-                }
-            }
-        }
+        let entries = cotangent_lower(&triangles, &gradients, &weighted_gradients, |v| {
+            let u = unknown[v as usize];
+            (u != PINNED).then_some(u as usize)
+        });
         let llt = sparse_cholesky::factor(unknown_count, &entries)?;
 
         let holes = contacts::hole_edges(n, &triangles, mesh_triangles);

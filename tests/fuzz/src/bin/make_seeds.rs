@@ -173,7 +173,7 @@ fn glb_seeds(out: &Path) {
     // The head in two materials: two primitives sharing its vertices.
     let options = NewGlbOptions {
         part_splits: vec![vec![MaterialSplit {
-            first_triangle: avatar.parts[0].triangles.len() / 2,
+            first_triangle: avatar.parts()[0].triangles.len() / 2,
             name: "lips".into(),
             look: MeshLook::GUM,
         }]],

@@ -7,19 +7,19 @@ use super::*;
 fn reads_world_positions_through_the_node_hierarchy() {
     let g = read_fixture();
     let a = &g.avatar;
-    assert_eq!(a.parts.len(), 3);
-    assert_eq!(a.meshes[0].target_names, TARGET_NAMES);
+    assert_eq!(a.parts().len(), 3);
+    assert_eq!(a.meshes()[0].target_names, TARGET_NAMES);
     let world = head_world();
-    for (v, p) in HEAD.iter().zip(&a.parts[0].positions) {
+    for (v, p) in HEAD.iter().zip(&a.parts()[0].positions) {
         assert!(close(world.transform_point3(*v), *p));
     }
     // A displacement moves through the linear part only.
     let d = world.transform_vector3(local_target(0, 4)[1]);
-    assert!(close(a.parts[0].targets[0][1], d));
-    assert_eq!(a.parts[0].triangles, [[0, 1, 2], [0, 2, 3]]);
+    assert!(close(a.parts()[0].targets[0][1], d));
+    assert_eq!(a.parts()[0].triangles, [[0, 1, 2], [0, 2, 3]]);
     // The teeth by their column-major matrix.
-    assert!(close(a.parts[2].positions[0], Vec3::new(2.0, -1.0, 0.0)));
-    assert_eq!(a.parts[2].name, "Teeth");
+    assert!(close(a.parts()[2].positions[0], Vec3::new(2.0, -1.0, 0.0)));
+    assert_eq!(a.parts()[2].name, "Teeth");
     let found = check_avatar(&g).unwrap();
     assert_eq!(found.of(Blendshape::BrowInnerUp), [(0, 1), (0, 2)]);
 }
@@ -154,7 +154,7 @@ fn names_fall_back_to_primitive_extras_then_accessor_names() {
     doc["accessors"][a]["name"] = json!("cheekPuff");
     let g = read_avatar_bytes(&glb(&doc, &bin), "x.glb").unwrap();
     assert_eq!(
-        g.avatar.meshes[0].target_names,
+        g.avatar.meshes()[0].target_names,
         ["jawOpen", "cheekPuff", "target 2", "target 3"]
     );
 }
@@ -185,7 +185,7 @@ fn a_skinned_mesh_is_placed_by_its_bind_pose_not_its_node() {
     doc["skins"] = json!([{ "joints": [3], "inverseBindMatrices": ibm_accessor }]);
     let g = read_avatar_bytes(&glb(&doc, &bin), "skinned.glb").unwrap();
     assert!(close(
-        g.avatar.parts[2].positions[0],
+        g.avatar.parts()[2].positions[0],
         Vec3::new(2.0, 0.5, 0.0)
     ));
     assert_eq!(g.placements[2].node, 2);
@@ -200,17 +200,20 @@ fn a_cycle_in_the_hierarchy_is_cut_where_it_closes() {
     doc["nodes"][1]["children"] = json!([0]);
     let g = read_avatar_bytes(&glb(&doc, &bin), "cycle.glb").expect("reads");
     let plain = read_fixture();
-    assert_eq!(g.avatar.parts.len(), plain.avatar.parts.len());
+    assert_eq!(g.avatar.parts().len(), plain.avatar.parts().len());
     let head_alone = Mat4::from_translation(Vec3::new(0.0, 0.5, 0.0));
     let to_cycle = head_alone * head_world().inverse();
-    for (p, q) in g.avatar.parts[0]
+    for (p, q) in g.avatar.parts()[0]
         .positions
         .iter()
-        .zip(&plain.avatar.parts[0].positions)
+        .zip(&plain.avatar.parts()[0].positions)
     {
         assert!(close(*p, to_cycle.transform_point3(*q)), "{p} vs {q}");
     }
-    assert_eq!(g.avatar.parts[0].triangles, plain.avatar.parts[0].triangles);
+    assert_eq!(
+        g.avatar.parts()[0].triangles,
+        plain.avatar.parts()[0].triangles
+    );
 }
 
 #[test]
@@ -232,7 +235,7 @@ fn a_mirroring_node_reverses_the_winding() {
     let (mut doc, bin) = fixture();
     doc["nodes"][1]["scale"] = json!([-1.0, 1.0, 1.0]);
     let g = read_avatar_bytes(&glb(&doc, &bin), "mirrored.glb").unwrap();
-    assert_eq!(g.avatar.parts[0].triangles, [[0, 2, 1], [0, 3, 2]]);
+    assert_eq!(g.avatar.parts()[0].triangles, [[0, 2, 1], [0, 3, 2]]);
     // Still facing the same way in world space as the unmirrored file.
     let plain = read_fixture();
     let normal = |p: &crate::avatar::AvatarPart| {
@@ -240,7 +243,10 @@ fn a_mirroring_node_reverses_the_winding() {
         (b - a).cross(c - a).normalize()
     };
     let mirror = |v: Vec3| Vec3::new(-v.x, v.y, v.z);
-    let (m, u) = (normal(&g.avatar.parts[0]), normal(&plain.avatar.parts[0]));
+    let (m, u) = (
+        normal(&g.avatar.parts()[0]),
+        normal(&plain.avatar.parts()[0]),
+    );
     // Mirroring the head in its own x: the face normal mirrors with it.
     let world = head_world();
     let axis = world.transform_vector3(Vec3::X).normalize();
@@ -275,7 +281,7 @@ fn quantized_positions_read_as_floats_and_write_back_as_floats() {
     doc["extensionsUsed"] = json!(["EXT_made_up", "KHR_mesh_quantization"]);
     doc["extensionsRequired"] = json!(["KHR_mesh_quantization"]);
     let g = read_avatar_bytes(&glb(&doc, &bin), "quantized.glb").unwrap();
-    let teeth = &g.avatar.parts[2].positions;
+    let teeth = &g.avatar.parts()[2].positions;
     // The teeth's matrix moves them by y − 1.
     assert!(close(teeth[0], Vec3::new(1.0, -1.0, 0.0)), "{}", teeth[0]);
     assert!(close(teeth[1], Vec3::new(0.0, -2.0, 0.0)), "{}", teeth[1]);
@@ -300,6 +306,6 @@ fn quantized_positions_read_as_floats_and_write_back_as_floats() {
         again.json()["accessors"][position as usize]["componentType"],
         5126
     );
-    assert_eq!(again.avatar.parts[2].positions, *teeth);
+    assert_eq!(again.avatar.parts()[2].positions, *teeth);
     assert_eq!(again.json()["extensionsUsed"], json!(["EXT_made_up"]));
 }

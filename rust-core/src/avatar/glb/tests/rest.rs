@@ -37,7 +37,12 @@ fn a_new_rest_replaces_positions_and_turns_normals_with_the_surface() {
     let g = read_avatar_bytes(&glb(&doc, &bin), "rest.glb").unwrap();
 
     // Vertex 3 of the head moves in world space; nothing else does.
-    let mut rest: Vec<Vec<Vec3>> = g.avatar.parts.iter().map(|p| p.positions.clone()).collect();
+    let mut rest: Vec<Vec<Vec3>> = g
+        .avatar
+        .parts()
+        .iter()
+        .map(|p| p.positions.clone())
+        .collect();
     let world = head_world();
     rest[0][3] = world.transform_point3(Vec3::new(-0.5, 0.0, 1.0));
     let mut shapes = NewShapes::new();
@@ -45,11 +50,11 @@ fn a_new_rest_replaces_positions_and_turns_normals_with_the_surface() {
     let bytes = written_back_glb(&g, &shapes, TargetEncoding::Smallest, Path::new("rest.glb"))
         .expect("writes");
     let back = read_avatar_bytes(&bytes, "back.glb").expect("reads");
-    for (got, want) in back.avatar.parts.iter().zip(&rest) {
+    for (got, want) in back.avatar.parts().iter().zip(&rest) {
         assert!(got.positions.iter().zip(want).all(|(a, b)| close(*a, *b)));
     }
     // Targets are kept as they were.
-    assert_eq!(back.avatar.parts[0].targets, g.avatar.parts[0].targets);
+    assert_eq!(back.avatar.parts()[0].targets, g.avatar.parts()[0].targets);
 
     let prim = &back.json()["meshes"][0]["primitives"][0]["attributes"];
     let normals = floats(&back, &prim["NORMAL"]);
@@ -89,16 +94,17 @@ fn new_targets_carry_normal_deltas_where_the_primitive_has_normals() {
     let world = head_world();
     let mut open: Vec<Vec<Vec3>> = g
         .avatar
-        .parts
+        .parts()
         .iter()
         .map(|p| vec![Vec3::ZERO; p.positions.len()])
         .collect();
-    open[0][3] = world.transform_point3(Vec3::new(-0.5, 0.0, 1.0)) - g.avatar.parts[0].positions[3];
+    open[0][3] =
+        world.transform_point3(Vec3::new(-0.5, 0.0, 1.0)) - g.avatar.parts()[0].positions[3];
     let mut shapes = NewShapes::new();
     shapes.set(Blendshape::JawOpen, open);
     let bytes = written_back_glb(&g, &shapes, TargetEncoding::Dense, Path::new("n.glb")).unwrap();
     let back = read_avatar_bytes(&bytes, "back.glb").unwrap();
-    let names = &back.avatar.meshes[0].target_names;
+    let names = &back.avatar.meshes()[0].target_names;
     let t = names.iter().position(|n| n == "jawOpen").unwrap();
     let head = &back.json()["meshes"][0]["primitives"][0]["targets"][t];
     let deltas = floats(&back, &head["NORMAL"]);

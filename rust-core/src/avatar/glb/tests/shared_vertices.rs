@@ -8,12 +8,12 @@ use crate::avatar::glb::look::part_colours;
 /// A square of two triangles with one jawOpen target, the second triangle
 /// in a material of its own ("lips").
 fn square_in_two_materials() -> (Avatar, NewGlbOptions) {
-    let avatar = Avatar {
-        meshes: vec![AvatarMesh {
+    let avatar = Avatar::new(
+        vec![AvatarMesh {
             name: Some("head".into()),
             target_names: vec!["jawOpen".into()],
         }],
-        parts: vec![AvatarPart {
+        vec![AvatarPart {
             name: "skin".into(),
             mesh: 0,
             primitive: 0,
@@ -21,7 +21,8 @@ fn square_in_two_materials() -> (Avatar, NewGlbOptions) {
             triangles: vec![[0, 1, 2], [0, 2, 3]],
             targets: vec![vec![Vec3::ZERO, Vec3::ZERO, Vec3::Z, Vec3::Z]],
         }],
-    };
+    )
+    .unwrap();
     let options = NewGlbOptions {
         looks: vec![MeshLook::SKIN],
         part_splits: vec![vec![MaterialSplit {
@@ -45,9 +46,12 @@ fn a_part_split_between_materials_is_two_primitives_sharing_its_vertices() {
     assert_eq!(primitives[0]["targets"], primitives[1]["targets"]);
     assert_ne!(primitives[0]["material"], primitives[1]["material"]);
     // Read back: one part, the same triangles, the split remembered.
-    assert_eq!(back.avatar.parts.len(), 1);
-    assert_eq!(back.avatar.parts[0].triangles, avatar.parts[0].triangles);
-    assert_eq!(back.avatar.parts[0].targets, avatar.parts[0].targets);
+    assert_eq!(back.avatar.parts().len(), 1);
+    assert_eq!(
+        back.avatar.parts()[0].triangles,
+        avatar.parts()[0].triangles
+    );
+    assert_eq!(back.avatar.parts()[0].targets, avatar.parts()[0].targets);
     assert_eq!(
         back.splits,
         [vec![PrimitiveSplit {
@@ -92,15 +96,15 @@ fn primitives_sharing_vertices_share_the_written_back_targets() {
         primitives[0]["extras"]["targetNames"],
         primitives[1]["extras"]["targetNames"]
     );
-    assert_eq!(again.avatar.parts.len(), 1, "still one part");
-    let names = &again.avatar.meshes[0].target_names;
+    assert_eq!(again.avatar.parts().len(), 1, "still one part");
+    let names = &again.avatar.meshes()[0].target_names;
     for shape in ["jawOpen", "eyeBlinkLeft"] {
         let t = names.iter().position(|n| n == shape).unwrap();
-        assert_eq!(again.avatar.parts[0].targets[t], lift, "{shape}");
+        assert_eq!(again.avatar.parts()[0].targets[t], lift, "{shape}");
     }
     // With a new rest, both primitives take it.
     let mut rest = NewShapes::new();
-    let moved: Vec<Vec3> = avatar.parts[0]
+    let moved: Vec<Vec3> = avatar.parts()[0]
         .positions
         .iter()
         .map(|p| *p + Vec3::Z)
@@ -108,6 +112,6 @@ fn primitives_sharing_vertices_share_the_written_back_targets() {
     rest.set_rest(vec![moved.clone()]);
     let written = written_back_glb(&glb, &rest, TargetEncoding::Dense, Path::new("r.glb")).unwrap();
     let again = read_avatar_bytes(&written, "r.glb").unwrap();
-    assert_eq!(again.avatar.parts.len(), 1);
-    assert_eq!(again.avatar.parts[0].positions, moved);
+    assert_eq!(again.avatar.parts().len(), 1);
+    assert_eq!(again.avatar.parts()[0].positions, moved);
 }

@@ -7,7 +7,7 @@ fn new_shapes(g: &GlbAvatar) -> NewShapes {
     let mut shapes = NewShapes::new();
     let moving = |k: usize, scale: f32| -> Vec<Vec<Vec3>> {
         g.avatar
-            .parts
+            .parts()
             .iter()
             .enumerate()
             .map(|(i, p)| {
@@ -95,9 +95,9 @@ fn write_back_replaces_arkit_targets_and_keeps_the_rest() {
         written_back_glb(&g, &shapes, TargetEncoding::Smallest, Path::new("o.glb")).unwrap();
     let back = read_avatar_bytes(&bytes, "o.glb").unwrap();
     assert_eq!(untouched_part(&back), untouched_part(&g));
-    let names = &back.avatar.meshes[0].target_names;
+    let names = &back.avatar.meshes()[0].target_names;
     assert_eq!(names, &["eyeBlinkLeft", "browInnerUp", "Fcl_custom"]);
-    assert_eq!(back.avatar.meshes[1].target_names, ["jawOpen"]);
+    assert_eq!(back.avatar.meshes()[1].target_names, ["jawOpen"]);
     assert_eq!(back.json()["meshes"][0]["weights"], json!([0.5, 0.0, 0.25]));
     assert_eq!(back.json()["meshes"][0]["extras"]["other"], json!(true));
     assert_eq!(
@@ -105,7 +105,7 @@ fn write_back_replaces_arkit_targets_and_keeps_the_rest() {
         json!(names)
     );
     // New data, back in world space; the kept target untouched.
-    for (k, part) in back.avatar.parts.iter().enumerate() {
+    for (k, part) in back.avatar.parts().iter().enumerate() {
         let expect = [
             shapes.get(Blendshape::EyeBlinkLeft),
             shapes.get(Blendshape::BrowInnerUp),
@@ -116,11 +116,11 @@ fn write_back_replaces_arkit_targets_and_keeps_the_rest() {
         }
     }
     assert_eq!(
-        back.avatar.parts[0].targets[2],
-        g.avatar.parts[0].targets[3]
+        back.avatar.parts()[0].targets[2],
+        g.avatar.parts()[0].targets[3]
     );
     assert!(close(
-        back.avatar.parts[2].targets[0][1],
+        back.avatar.parts()[2].targets[0][1],
         Vec3::new(0.4, 0.0, -0.4)
     ));
     // Written in the head's own space: inverse of its linear part.
@@ -155,12 +155,12 @@ fn writing_back_nothing_keeps_data_and_spells_names() {
     )
     .unwrap();
     let back = read_avatar_bytes(&bytes, "o.glb").unwrap();
-    assert_eq!(back.avatar.parts, g.avatar.parts);
+    assert_eq!(back.avatar.parts(), g.avatar.parts());
     // Nothing dropped, nothing renumbered.
     assert_eq!(back.json()["accessors"], g.json()["accessors"]);
     assert_eq!(back.json()["nodes"], g.json()["nodes"]);
-    assert_eq!(back.avatar.meshes[0].target_names[0], "eyeBlinkLeft");
-    assert_eq!(back.avatar.meshes[0].target_names[1], "browInnerUp_L");
+    assert_eq!(back.avatar.meshes()[0].target_names[0], "eyeBlinkLeft");
+    assert_eq!(back.avatar.meshes()[0].target_names[1], "browInnerUp_L");
 }
 
 #[test]
@@ -182,12 +182,12 @@ fn sparse_when_smaller_dense_otherwise_both_exact() {
     let all: Vec<Vec3> = (0..n)
         .map(|i| Vec3::new(i as f32 * 1e-3, 0.5, -0.25))
         .collect();
-    let avatar = Avatar {
-        meshes: vec![AvatarMesh {
+    let avatar = Avatar::new(
+        vec![AvatarMesh {
             name: Some("m".into()),
             target_names: vec!["JawOpen".into(), "mouthClose".into()],
         }],
-        parts: vec![AvatarPart {
+        vec![AvatarPart {
             name: "m".into(),
             mesh: 0,
             primitive: 0,
@@ -195,7 +195,8 @@ fn sparse_when_smaller_dense_otherwise_both_exact() {
             triangles,
             targets: vec![few.clone(), all.clone()],
         }],
-    };
+    )
+    .unwrap();
     let bytes = new_avatar_glb(&avatar, &NewGlbOptions::default(), Path::new("n.glb")).unwrap();
     let back = read_avatar_bytes(&bytes, "n.glb").unwrap();
     let acc = &back.json()["accessors"];
@@ -210,12 +211,15 @@ fn sparse_when_smaller_dense_otherwise_both_exact() {
             .get("sparse")
             .is_none()
     );
-    assert_eq!(back.avatar.parts[0].targets, [few, all]);
+    assert_eq!(back.avatar.parts()[0].targets, [few, all]);
     assert_eq!(
-        back.avatar.meshes[0].target_names,
+        back.avatar.meshes()[0].target_names,
         ["jawOpen", "mouthClose"]
     );
-    assert_eq!(back.avatar.parts[0].positions, avatar.parts[0].positions);
+    assert_eq!(
+        back.avatar.parts()[0].positions,
+        avatar.parts()[0].positions
+    );
     let dense = NewGlbOptions {
         encoding: TargetEncoding::Dense,
         ..Default::default()
@@ -223,8 +227,8 @@ fn sparse_when_smaller_dense_otherwise_both_exact() {
     let bigger = new_avatar_glb(&avatar, &dense, Path::new("d.glb")).unwrap();
     assert!(bigger.len() > bytes.len());
     assert_eq!(
-        read_avatar_bytes(&bigger, "d.glb").unwrap().avatar.parts[0].targets,
-        avatar.parts[0].targets
+        read_avatar_bytes(&bigger, "d.glb").unwrap().avatar.parts()[0].targets,
+        avatar.parts()[0].targets
     );
 }
 
@@ -264,7 +268,7 @@ fn gltf_with_a_data_uri_and_a_bin_file_beside_it() {
     let out = dir.join("out.glb");
     write_avatar(&from_file, &new_shapes(&from_file), &out).unwrap();
     assert_eq!(
-        read_avatar(&out).unwrap().avatar.meshes[1].target_names,
+        read_avatar(&out).unwrap().avatar.meshes()[1].target_names,
         ["jawOpen"]
     );
     // The same buffer as a base64 data URI, read from memory.
@@ -309,13 +313,14 @@ fn parts_get_their_own_materials_and_vertex_tints() {
         triangles: vec![[0, 1, 2]],
         targets: Vec::new(),
     };
-    let avatar = Avatar {
-        meshes: vec![AvatarMesh {
+    let avatar = Avatar::new(
+        vec![AvatarMesh {
             name: Some("eye".into()),
             target_names: Vec::new(),
         }],
-        parts: vec![part(0, 0.0), part(1, 0.1), part(2, 0.2)],
-    };
+        vec![part(0, 0.0), part(1, 0.1), part(2, 0.2)],
+    )
+    .unwrap();
     let tint = vec![Vec3::ONE, Vec3::new(0.5, 0.2, 0.2), Vec3::ONE];
     let options = NewGlbOptions {
         looks: vec![MeshLook::EYE_WHITE],
@@ -357,20 +362,7 @@ fn parts_get_their_own_materials_and_vertex_tints() {
 
 #[test]
 fn parts_given_shading_normals_keep_them_and_bad_ones_are_refused() {
-    let avatar = Avatar {
-        meshes: vec![AvatarMesh {
-            name: Some("skin".into()),
-            target_names: Vec::new(),
-        }],
-        parts: vec![AvatarPart {
-            name: "skin".into(),
-            mesh: 0,
-            primitive: 0,
-            positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y],
-            triangles: vec![[0, 1, 2]],
-            targets: Vec::new(),
-        }],
-    };
+    let avatar = Avatar::one_triangle("skin");
     // The flat triangle's own normal is +z everywhere; a surface it was
     // sampled from leans its corners outwards.
     let own = [
@@ -419,12 +411,12 @@ fn every_target_carries_the_normal_change_it_causes() {
     let triangles = vec![[0, 1, 2], [1, 3, 2]];
     let mut lift = vec![Vec3::ZERO; 4];
     lift[3] = Vec3::new(0.0, 0.0, 0.5);
-    let avatar = Avatar {
-        meshes: vec![AvatarMesh {
+    let avatar = Avatar::new(
+        vec![AvatarMesh {
             name: Some("skin".into()),
             target_names: vec!["jawOpen".into(), "mouthClose".into()],
         }],
-        parts: vec![AvatarPart {
+        vec![AvatarPart {
             name: "skin".into(),
             mesh: 0,
             primitive: 0,
@@ -432,7 +424,8 @@ fn every_target_carries_the_normal_change_it_causes() {
             triangles: triangles.clone(),
             targets: vec![lift.clone(), vec![Vec3::ZERO; 4]],
         }],
-    };
+    )
+    .unwrap();
     let lifted: Vec<Vec3> = positions.iter().zip(&lift).map(|(p, d)| *p + *d).collect();
     let want = write_new::vertex_normals(&lifted, &triangles);
     // With the surface's own normals and with given shading normals (the

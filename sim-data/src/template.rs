@@ -14,7 +14,7 @@ use likeness::{Blendshape, Template};
 
 /// How far apart Apple's own template leaves the lids at eyeBlink = 1 (m):
 /// measured on ARKit's template, 0.4–0.6 mm depending on how the gap is
-/// measured (issue 9); the lids do not touch.
+/// measured; the lids do not touch.
 pub const APPLE_BLINK_GAP: f64 = 0.0005;
 
 /// Which generic template: how its eyeBlink shapes end.

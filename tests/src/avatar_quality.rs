@@ -1,5 +1,5 @@
 //! What a user sees wrong in an implanted avatar, measured against the
-//! avatar's own shapes (issue 21's checks). Each measure compares the
+//! avatar's own shapes. Each measure compares the
 //! personalized shape with the avatar's own shape of the same name, so a
 //! rig's own choices (a lid tucked under a cornea shell, a stretchy lip)
 //! are never counted against the implant:
@@ -329,7 +329,7 @@ pub fn summary(found: &FaceRegistration, f: &Figures) -> String {
     )
 }
 
-/// The round trip of issue 21: the avatar's own shapes, seen through the
+/// The round trip: the avatar's own shapes, seen through the
 /// registration, given to the pipeline as the person, compared with the
 /// avatar's own targets.
 #[derive(Clone, Debug, PartialEq)]

@@ -57,7 +57,7 @@ pub fn personal_avatar_with(
     )
 }
 
-/// The round trip of issue 21 on `glb`: the avatar's own shapes, seen
+/// The round trip on `glb`: the avatar's own shapes, seen
 /// through the face found on it for the committed subject 1's mask, given
 /// as the person.
 pub fn round_trip_of(glb: &GlbAvatar) -> Result<PersonalAvatar, AvatarError> {

@@ -18,7 +18,9 @@ use likeness::geometry::mesh_boundary::boundary_loops;
 pub use likeness::geometry::self_intersection::intersecting_pairs;
 use likeness::{Blendshape, Blendshapes, Topology};
 
-/// The figures of issue 22's point 2 for one person's avatar.
+/// The person's-face figures for one person's avatar: fit, strain at
+/// the border and inside, self-intersections, lids in eyeballs, blinks,
+/// teeth in front.
 #[derive(Clone, Debug)]
 pub struct FaceChecks {
     /// Largest distance of the new rest from the scanned neutral at the

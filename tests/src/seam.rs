@@ -1,4 +1,4 @@
-//! The seam statistics of issue 11: how much a change of an avatar's skin
+//! The seam statistics: how much a change of an avatar's skin
 //! stretches and bends it along the border of the face region, against
 //! just inside and just outside it.
 

@@ -1,4 +1,4 @@
-//! `personal_avatar` on avatars that lack something (issue 11, point 6):
+//! `personal_avatar` on avatars that lack something:
 //! no eyes or teeth (the steps are skipped and said so), targets that move
 //! nothing, a face that cannot be found; each a warning or a typed error,
 //! never a panic. (A session whose personalization fails is refused by

@@ -1,4 +1,4 @@
-//! The round trip of issue 21: an avatar's own 52 shapes, seen through
+//! The round trip: an avatar's own 52 shapes, seen through
 //! the registration (each mask vertex takes the avatar's displacement
 //! where it lies on the skin, `likeness::avatar::own_shapes`), given to
 //! the pipeline as the person, must come back as the avatar's own

@@ -1,5 +1,5 @@
-//! The avatar stage on avatars the default avatar's mask did not make
-//! (issue 21): every generated variant (`likeness_sim::avatar_variants`:
+//! The avatar stage on avatars the default avatar's mask did not make:
+//! every generated variant (`likeness_sim::avatar_variants`:
 //! a low-poly head, eyes turned by bones, teeth and gums in one mesh, the
 //! face in one mesh, a skinned full body, lids folded into the sockets,
 //! centimetres and Z up, other proportions) and, where

@@ -1,4 +1,4 @@
-//! What nothing moves stays put (issue 21): in every personalized shape on
+//! What nothing moves stays put: in every personalized shape on
 //! the default avatar and on a variant of other proportions, a head vertex
 //! moves only within `FADE_MM` (along the skin) of a vertex that the
 //! person's mask, the avatar's own target or the retargeting `A_j` moves.

@@ -1,5 +1,5 @@
-//! The generated test avatars (`likeness_sim::avatar_variants`, issue 21
-//! point 1) are valid GLBs that the core's reader
+//! The generated test avatars (`likeness_sim::avatar_variants`)
+//! are valid GLBs that the core's reader
 //! (`likeness::avatar::glb::read_avatar_bytes`) reads into what each
 //! variant's `VariantTruth` says: meshes and parts, the head's vertices,
 //! ARKit and other targets, skins and bind poses, eyes turned by bones or

@@ -1,4 +1,4 @@
-//! Compressed avatars (issue 21): the default avatar compressed by
+//! Compressed avatars: the default avatar compressed by
 //! `likeness_sim::compressed_glb` (positions and target displacements as
 //! `KHR_mesh_quantization` normalized SHORT with a dequantizing node
 //! transform, normals as normalized BYTE through the octahedral filter,

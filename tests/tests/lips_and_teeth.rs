@@ -1,4 +1,4 @@
-//! The person's mouth on the avatar (issue 11, point 2): mouthClose with
+//! The person's mouth on the avatar: mouthClose with
 //! jawOpen brings the avatar's lips as close together as the person's own
 //! shapes bring the mask's, and the teeth never show through lips that
 //! stay closed, in any single shape (committed subjects, default avatar).

@@ -76,8 +76,8 @@ fn the_template_implanted_gives_back_the_avatars_own_shapes() {
 /// and outside it, the implant stretches and bends the skin as the avatar's
 /// own jawOpen, mouthSmileLeft and browInnerUp do (within 10%, or 10⁻⁴).
 ///
-/// On a person's shapes (committed subjects 1 and 2), the seam criterion of
-/// issue 11 along the face's outline, where the person's face meets the
+/// On a person's shapes (committed subjects 1 and 2), the seam criterion
+/// along the face's outline, where the person's face meets the
 /// avatar's own head (Fig. 3): the mean edge strain and the mean dihedral
 /// change of the border edges are no larger than the larger of the two
 /// bands beside them (a border that is a local peak of either is a seam),

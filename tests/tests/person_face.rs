@@ -46,8 +46,8 @@ fn taken(seed: u64, glb: &GlbAvatar) -> PersonalAvatar {
     personal_avatar_with(seed, glb, RestFace::Person).expect("makes the avatar")
 }
 
-/// Point 2 on committed subjects 1–4 (the closing note of issue 22 gives
-/// the same figures on fresh seeds, from `cargo run --example
+/// Point 2 on committed subjects 1–4 (the same figures on fresh seeds come
+/// from `cargo run --example
 /// person_face_study`): the new rest within 0.2 mm of the scanned neutral
 /// at the mask's vertices, the face's border strained at most 1.5 times
 /// its inside, no skin triangle through another (the stock avatar has
@@ -199,7 +199,7 @@ fn two_people_give_two_visibly_different_avatars() {
 
 /// The round trip with the face taken: the avatar's own face (the
 /// registered mask) taken onto its rest changes the rest by under 0.1 mm,
-/// and its own 52 shapes still come back (issue 21's tolerances).
+/// and its own 52 shapes still come back (the round trip's tolerances).
 #[test]
 fn taking_the_avatars_own_face_changes_nothing() {
     let glb = default_glb();

@@ -39,7 +39,7 @@
 //! ([`crate::avatar::partial_transfer`]).
 //!
 //! Given `S_j` as the person ([`avatar_as_person`]), the implanted avatar
-//! gives back its own targets: the round trip of issue 21, checked on
+//! gives back its own targets (the round trip), checked on
 //! every avatar the project generates (`tests/tests/avatar_round_trip.rs`).
 
 use super::model::Avatar;
@@ -247,7 +247,7 @@ pub fn own_shapes_on_mask(
         .collect()
 }
 
-/// The avatar's own shapes as a person (the round trip of issue 21): the
+/// The avatar's own shapes as a person (the round trip): the
 /// registered mask carried back into the mask's frame as the neutral, and
 /// `S_j` as the 52 deltas (zero where the avatar lacks a shape).
 pub fn avatar_as_person(

@@ -57,12 +57,10 @@
 //! the stiffness-weighted mean of the two lid points: the lid that the data
 //! and the regularizer hold harder moves less; with `k_a = k_b` (small λ, or
 //! equal weights) it is the midpoint. No vertex is in two pairs, so the pairs
-//! are independent. Only lid vertices move, each by its share of the gap. A
-//! smooth correction (the least-gradient one that EBFR uses,
-//! [`crate::geometry::deformation_transfer::DeformationTransfer::close_contacts`])
-//! was tried too: on the four committed subjects it raised the `multi` RMSE
-//! to the true faces by 2.4%, against 0.6% for this one, and left the lids
-//! rougher relative to the true blink.
+//! are independent. Only lid vertices move, each by its share of the gap
+//! (why not a smooth correction, as EBFR's
+//! [`crate::geometry::deformation_transfer::DeformationTransfer::close_contacts`]:
+//! `docs/notes/2026-12-lid-closing-in-the-fit.md`).
 
 use super::error::{PersonalizeError, SingularFit, check_size};
 use crate::arkit::{BLENDSHAPE_COUNT, Blendshape, Blendshapes};

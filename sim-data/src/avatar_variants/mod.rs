@@ -1,6 +1,6 @@
-//! Generated test avatars of the kinds users bring (issue 21, point 1): the
-//! avatar stage had been measured only on the project's own default
-//! avatar. Each variant is derived from the default avatar's geometry and
+//! Generated test avatars of the kinds users bring, so that the avatar
+//! stage is measured on more than the project's own default avatar. Each
+//! variant is derived from the default avatar's geometry and
 //! changed in topology, proportion, layout or rig, and comes with what a
 //! correct reader must find in it ([`VariantTruth`]).
 //!

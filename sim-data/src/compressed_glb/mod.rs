@@ -1,6 +1,6 @@
 //! Avatars compressed the way VRoid and web-optimised exporters write
 //! them (`EXT_meshopt_compression` over `KHR_mesh_quantization`), made
-//! from a plain GLB for testing the reader (issue 21).
+//! from a plain GLB for testing the reader.
 //!
 //! | file | what |
 //! |---|---|

@@ -18,8 +18,8 @@ use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
 /// The longest error message a reader may give: a path, a line, a field
-/// and an excerpt of at most 40 characters of the bad cell (issue 14, part
-/// 3). A message past this echoes the input.
+/// and an excerpt of at most 40 characters of the bad cell. A message
+/// past this echoes the input.
 pub const MAX_MESSAGE_BYTES: usize = 1024;
 
 /// A folder of this process's own (`/dev/shm` when there is one, so files

@@ -181,7 +181,7 @@ fn glb_seeds(out: &Path) {
     };
     let glb = new_avatar_glb(&avatar, &options, Path::new("s.glb")).expect("tiny GLB");
     put(&dir, "tiny-two-materials.glb", &glb);
-    // The same, quantized and meshopt-compressed (issue 21).
+    // The same, quantized and meshopt-compressed.
     let glb =
         new_avatar_glb(&avatar, &NewGlbOptions::default(), Path::new("t.glb")).expect("tiny GLB");
     let compressed = likeness_sim::compressed_glb::meshopt_compressed(&glb).expect("compressed");

@@ -12,7 +12,7 @@
 
 use super::head::{CENTRE, ray_radius};
 use super::mouth::Mesh;
-use super::uv_sphere::{even_rings, uv_sphere};
+use super::uv_sphere::{direction, even_rings, uv_sphere};
 use glam::{DMat3, DVec3};
 use std::f64::consts::PI;
 
@@ -40,7 +40,7 @@ pub fn ear(side: usize) -> Mesh {
     let front_edge = CENTRE + d * (ray_radius(CENTRE, d) - 0.003);
     let centre = front_edge + w * EAR_RADII.x;
     let local = |th: f64, ph: f64| {
-        let q = DVec3::new(th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos());
+        let q = direction(th, ph);
         let r = (q.x * q.x + q.y * q.y).sqrt();
         let z = if q.z > 0.0 {
             q.z * EAR_RADII.z - 0.007 * (-(r / 0.55).powi(2)).exp()

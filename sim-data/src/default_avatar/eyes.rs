@@ -9,7 +9,7 @@
 //! centre; along a ray at angle `θ` from the visual axis the surface is at
 //! `r(θ) = max(R, k cos θ + √(R_k² − k² sin² θ))`.
 
-use super::uv_sphere::uv_sphere;
+use super::uv_sphere::{direction, open_inwards, uv_sphere};
 use glam::{DMat3, DVec3};
 use std::f64::consts::{PI, TAU};
 
@@ -81,14 +81,7 @@ pub fn eyeball(centre: DVec3) -> (Vec<DVec3>, Vec<[u32; 3]>) {
             PI * (t - 0.3 * (PI * t).sin() / PI)
         })
         .collect();
-    let point = |theta: f64, phi: f64| {
-        let d = DVec3::new(
-            theta.sin() * phi.cos(),
-            theta.sin() * phi.sin(),
-            theta.cos(),
-        );
-        centre + d * surface_radius(theta)
-    };
+    let point = |theta: f64, phi: f64| centre + direction(theta, phi) * surface_radius(theta);
     uv_sphere(
         centre + DVec3::Z * surface_radius(0.0),
         &thetas,
@@ -122,33 +115,11 @@ pub const SOCKET_OPENING: f64 = 62.0 * PI / 180.0;
 /// inside of the head.
 pub fn socket(centre: DVec3) -> (Vec<DVec3>, Vec<[u32; 3]>) {
     let rings = 12;
-    let mut positions = Vec::new();
-    for k in 0..rings {
-        let theta = SOCKET_OPENING + (PI - SOCKET_OPENING) * k as f64 / rings as f64;
-        for j in 0..SEGMENTS {
-            let phi = TAU * j as f64 / SEGMENTS as f64;
-            let d = DVec3::new(
-                theta.sin() * phi.cos(),
-                theta.sin() * phi.sin(),
-                theta.cos(),
-            );
-            positions.push(centre + d * SOCKET_RADIUS);
-        }
-    }
-    positions.push(centre - DVec3::Z * SOCKET_RADIUS);
-    let ring = |k: usize, j: usize| (k * SEGMENTS + j % SEGMENTS) as u32;
-    let mut triangles = Vec::new();
-    for k in 0..rings - 1 {
-        for j in 0..SEGMENTS {
-            triangles.push([ring(k, j), ring(k + 1, j + 1), ring(k + 1, j)]);
-            triangles.push([ring(k, j), ring(k, j + 1), ring(k + 1, j + 1)]);
-        }
-    }
-    let back = (positions.len() - 1) as u32;
-    for j in 0..SEGMENTS {
-        triangles.push([ring(rings - 1, j), ring(rings - 1, j + 1), back]);
-    }
-    (positions, triangles)
+    let thetas: Vec<f64> = (0..rings)
+        .map(|k| SOCKET_OPENING + (PI - SOCKET_OPENING) * k as f64 / rings as f64)
+        .collect();
+    let point = |theta: f64, phi: f64| centre + direction(theta, phi) * SOCKET_RADIUS;
+    open_inwards(&thetas, SEGMENTS, point, centre - DVec3::Z * SOCKET_RADIUS)
 }
 
 /// Radius of the pupil (m): 3.8 mm across, an adult's pupil in ordinary

@@ -12,7 +12,7 @@
 //! underside, resting inside the lower arch, its tip behind the lower
 //! incisors.
 
-use super::uv_sphere::{even_rings, uv_sphere};
+use super::uv_sphere::{direction, even_rings, open_inwards, uv_sphere};
 use glam::DVec3;
 use std::f64::consts::{PI, TAU};
 
@@ -193,29 +193,12 @@ pub fn cavity() -> Mesh {
     // Rings around the z axis, from the opening (θ₀, where the ellipsoid
     // reaches the cut) to the back pole.
     let theta0 = ((CAVITY_FRONT_Z - CAVITY_CENTRE.z) / CAVITY_RADII.z).acos();
-    let mut p = Vec::new();
-    for k in 0..rings {
-        let th = theta0 + (PI - theta0) * k as f64 / rings as f64;
-        for j in 0..segments {
-            let ph = TAU * j as f64 / segments as f64;
-            let q = DVec3::new(th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos());
-            p.push(CAVITY_CENTRE + q * CAVITY_RADII);
-        }
-    }
-    p.push(CAVITY_CENTRE - DVec3::Z * CAVITY_RADII.z);
-    let r = |k: usize, j: usize| (k * segments + j % segments) as u32;
-    let mut t = Vec::new();
-    for k in 0..rings - 1 {
-        for j in 0..segments {
-            t.push([r(k, j), r(k + 1, j + 1), r(k + 1, j)]);
-            t.push([r(k, j), r(k, j + 1), r(k + 1, j + 1)]);
-        }
-    }
-    let back = (p.len() - 1) as u32;
-    for j in 0..segments {
-        t.push([r(rings - 1, j), r(rings - 1, j + 1), back]);
-    }
-    (p, t)
+    let thetas: Vec<f64> = (0..rings)
+        .map(|k| theta0 + (PI - theta0) * k as f64 / rings as f64)
+        .collect();
+    let point = |th: f64, ph: f64| CAVITY_CENTRE + direction(th, ph) * CAVITY_RADII;
+    let back = CAVITY_CENTRE - DVec3::Z * CAVITY_RADII.z;
+    open_inwards(&thetas, segments, point, back)
 }
 
 /// How much of the lining follows the mandible: its floor fully, its roof

@@ -5,7 +5,7 @@
 //! [`FaceRegistration`] as bincode; anything unreadable is treated as a
 //! miss (the registration is then redone and the file rewritten).
 
-use super::find_face::{FaceRegistration, FoundFace};
+use super::face_registration::{FaceRegistration, FoundFace};
 use crate::avatar::model::Avatar;
 use crate::io::atomic_write::write_atomically;
 use std::path::{Path, PathBuf};

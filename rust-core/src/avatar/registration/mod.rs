@@ -15,10 +15,12 @@
 //! | (beyond the paper) the mask's slit held where the avatar's lips part | the parting, by the avatar's own jawOpen | [`lips_parting`] |
 //! | (beyond the paper) what each part is: skin, eyeball, teeth, tongue | by the registration and the avatar's own shapes | [`part_roles`] |
 //! | §3.3, once per avatar topology | the whole search, its report and errors, the cache key | [`mod@find_face`] |
+//! | §3.3, the map `M` and what else was found | the registration checked against its avatar, and its parts' roles | [`face_registration`] |
 //! | §3.3 "computed only once" | the registration kept in a file per avatar | [`cache`] |
 pub mod cache;
 pub mod correspondence;
 pub mod eyeballs;
+pub mod face_registration;
 pub mod features;
 pub mod find_face;
 pub mod lip_sides;
@@ -30,8 +32,7 @@ pub mod rigid_icp;
 pub mod similarity;
 
 pub use correspondence::{CorrespondenceMap, FaceVertex};
-pub use find_face::{
-    FaceRegistration, FoundFace, InvalidRegistration, RegistrationError, find_face,
-};
+pub use face_registration::{FaceRegistration, FoundFace, InvalidRegistration};
+pub use find_face::{RegistrationError, find_face};
 pub use part_roles::PartRole;
 pub use similarity::Similarity;

@@ -10,8 +10,8 @@ use likeness::Session;
 use likeness::avatar::glb::{GlbAvatar, new_avatar_glb, read_avatar, read_avatar_bytes};
 use likeness::avatar::person_face::take_face;
 use likeness::avatar::personal_avatar::{
-    AvatarShapes, AvatarStep, PersonInput, PersonalAvatar, RestFace, mask_glb, personal_avatar,
-    retarget_map_json,
+    AvatarShapes, AvatarStep, AvatarWarning, PersonInput, PersonalAvatar, RestFace, mask_glb,
+    personal_avatar, retarget_map_json,
 };
 use likeness::avatar::registration::cache;
 use likeness::avatar::registration::find_face::cache_key;
@@ -73,6 +73,14 @@ struct Summary {
     face_fit_mm: Option<[f64; 2]>,
     #[serde(skip_serializing_if = "Option::is_none")]
     face_largest_change_mm: Option<f64>,
+    /// With the person's face: how far the scanned neutral lies from the
+    /// new skin over the mask's vertices on it, mean and 95th percentile
+    /// (mm), and how many mask vertices asked nothing of the skin (off it,
+    /// or lying folded on it).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    face_surface_mm: Option<[f64; 2]>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    face_points_left_out: Option<usize>,
     registration_residual_mean_mm: f64,
     registration_residual_max_mm: f64,
     registration_cached: bool,
@@ -81,12 +89,19 @@ struct Summary {
     retarget_weight_max: f64,
     retarget_weights_outside_unit_range: usize,
     retarget_worst_relative_residual: f64,
+    /// The same with the person's motion floored at 1 mm RMS: what the
+    /// check compares with its limit.
+    retarget_worst_floored_residual: f64,
+    /// Shapes past a limit of the check of the output (each also a
+    /// warning).
+    checked_faults: usize,
     /// Vertices set by the face step and the adjacent step, and lid
     /// vertices put back out of an eyeball (0 when writing `A_j`).
     implant_face_vertices: usize,
     implant_adjacent_vertices: usize,
     lids_repaired: usize,
-    /// Steps skipped or limited because the avatar lacked something.
+    /// Steps skipped or limited because the avatar lacked something, and
+    /// each shape past a limit of the check of the output.
     warnings: Vec<String>,
     seconds: Timings,
     out_bytes: u64,
@@ -441,6 +456,11 @@ pub fn avatar_command(args: &AvatarArgs) -> CliResult {
             .as_ref()
             .map(|t| [t.fit_mean_mm, t.fit_max_mm]),
         face_largest_change_mm: made.taken_face.as_ref().map(|t| t.largest_mm),
+        face_surface_mm: made
+            .taken_face
+            .as_ref()
+            .map(|t| [t.surface_mean_mm, t.surface_p95_mm]),
+        face_points_left_out: made.taken_face.as_ref().map(|t| t.points_left_out.len()),
         registration_residual_mean_mm: registration.residual_mean_mm,
         registration_residual_max_mm: registration.residual_max_mm,
         registration_cached: was_cached,
@@ -453,6 +473,16 @@ pub fn avatar_command(args: &AvatarArgs) -> CliResult {
             .iter()
             .copied()
             .fold(0.0, f64::max),
+        retarget_worst_floored_residual: retargeting
+            .floored_residual
+            .iter()
+            .copied()
+            .fold(0.0, f64::max),
+        checked_faults: made
+            .warnings
+            .iter()
+            .filter(|w| matches!(w, AvatarWarning::Fault(_)))
+            .count(),
         implant_face_vertices: implanted.as_ref().map_or(0, |i| i.face_vertices),
         implant_adjacent_vertices: implanted.as_ref().map_or(0, |i| i.adjacent_vertices),
         lids_repaired: implanted.as_ref().map_or(0, |i| i.lids_repaired),
@@ -592,10 +622,18 @@ fn print_summary(s: &Summary) {
         s.shapes
     );
     match s.face_fit_mm {
-        Some([mean, max]) => println!(
-            "Rest face: the person's scanned face, within {mean:.3} mm (mean), {max:.3} mm (largest) at the mask's vertices; the rest moved by up to {:.1} mm",
-            s.face_largest_change_mm.unwrap_or(0.0)
-        ),
+        Some([mean, max]) => {
+            println!(
+                "Rest face: the person's scanned face, within {mean:.3} mm (mean), {max:.3} mm (largest) at the mask's vertices; the rest moved by up to {:.1} mm",
+                s.face_largest_change_mm.unwrap_or(0.0)
+            );
+            if let (Some([mean, p95]), Some(left_out)) = (s.face_surface_mm, s.face_points_left_out)
+            {
+                println!(
+                    "  the scan lies {mean:.3} mm (mean), {p95:.2} mm (95%) from the new skin; {left_out} mask vertices asked nothing of it (off the skin, or folded on it)"
+                );
+            }
+        }
         None => println!("Rest face: the avatar's own"),
     }
     if s.implant_face_vertices > 0 {
@@ -603,6 +641,12 @@ fn print_summary(s: &Summary) {
             "Implanted: {} face vertices (step 1), {} next to them (step 2), {} lid vertices put back out of an eyeball",
             s.implant_face_vertices, s.implant_adjacent_vertices, s.lids_repaired
         );
+    }
+    match s.checked_faults {
+        0 => println!(
+            "Checked: every shape within the limits (torn edges, folds, blinks, lids in the eyes, Eq. (4)'s residual)"
+        ),
+        n => println!("Checked: {n} shape(s) past a limit, each named in a warning above"),
     }
     if let Some(map) = &s.retarget_map {
         println!("Wrote the retarget map {map}");

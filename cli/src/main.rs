@@ -35,6 +35,8 @@ enum Command {
         /// Simulate this subject instead of using the embedded sample.
         #[arg(long)]
         seed: Option<u64>,
+        #[command(flatten)]
+        face: simulate::FaceArgs,
     },
     /// Simulate a subject's full capture session and write it to a file.
     Simulate {
@@ -48,6 +50,8 @@ enum Command {
         /// expression (as the committed samples do); default: every frame.
         #[arg(long, value_name = "SECONDS")]
         geometry_window: Option<f64>,
+        #[command(flatten)]
+        face: simulate::FaceArgs,
     },
     /// Personalize a session's blendshapes and write them as OBJ files
     /// (neutral.obj and one file per ARKit name).
@@ -201,12 +205,13 @@ pub type CliResult = Result<(), Box<dyn std::error::Error>>;
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Demo { seed } => simulate::demo(seed),
+        Command::Demo { seed, face } => simulate::demo(seed, &face),
         Command::Simulate {
             seed,
             out,
             geometry_window,
-        } => simulate::simulate(seed, geometry_window, &out),
+            face,
+        } => simulate::simulate(seed, geometry_window, &face, &out),
         Command::Info { file, json } => info::info(&file, json),
         Command::DefaultAvatar { out } => avatar::default_avatar_command(&out),
         Command::Avatar {

@@ -6,7 +6,46 @@ use crate::progress::bar;
 use likeness::Session;
 use likeness::session::file as session_file;
 use likeness_sim::SimulationOptions;
-use std::path::Path;
+use likeness_sim::arkit_face::read_arkit_face;
+use likeness_sim::face_basis::FaceBasis;
+use std::path::{Path, PathBuf};
+
+/// Which face mesh a simulated person wears.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Topology {
+    /// The simulator's own mask (the committed sessions).
+    Simulator,
+    /// ARKit's own mesh, the one a real iPhone sends (read from
+    /// --arkit-face, never committed).
+    Arkit,
+}
+
+/// The face a simulated person is made on.
+#[derive(Clone, Debug, clap::Args)]
+pub struct FaceArgs {
+    /// The face mesh: the simulator's mask or ARKit's own.
+    #[arg(long, value_enum, default_value_t = Topology::Simulator)]
+    topology: Topology,
+    /// With --topology arkit: the folder of ARKit's generic face
+    /// (Neutral.obj and one OBJ per ARKit name).
+    #[arg(long, value_name = "DIR", default_value = "../shared/arkit-face")]
+    arkit_face: PathBuf,
+}
+
+impl FaceArgs {
+    /// The basis these arguments name; ARKit's face is read (and kept for
+    /// the process) only when asked for.
+    fn basis(&self) -> Result<FaceBasis, Box<dyn std::error::Error>> {
+        match self.topology {
+            Topology::Simulator => Ok(FaceBasis::Simulator),
+            Topology::Arkit => {
+                let face = read_arkit_face(&self.arkit_face)
+                    .map_err(|e| format!("--topology arkit needs ARKit's generic face: {e}"))?;
+                Ok(FaceBasis::Arkit(Box::leak(Box::new(face))))
+            }
+        }
+    }
+}
 
 /// The sample session built into the binary: simulated subject 1, as
 /// committed under `sim-data/sessions/`.
@@ -25,7 +64,7 @@ fn simulate_with_bar(seed: u64, options: SimulationOptions) -> Session {
 /// Simulates subject `seed` and writes the session to `out` atomically;
 /// with `geometry_window`, meshes are kept only that many seconds around
 /// captures and test expressions.
-pub fn simulate(seed: u64, geometry_window: Option<f64>, out: &Path) -> CliResult {
+pub fn simulate(seed: u64, geometry_window: Option<f64>, face: &FaceArgs, out: &Path) -> CliResult {
     if let Some(w) = geometry_window.filter(|w| !(w.is_finite() && *w >= 0.0)) {
         return Err(
             format!("--geometry-window must be a non-negative number of seconds, not {w}").into(),
@@ -44,6 +83,7 @@ pub fn simulate(seed: u64, geometry_window: Option<f64>, out: &Path) -> CliResul
         seed,
         SimulationOptions {
             geometry_window,
+            face: face.basis()?,
             ..SimulationOptions::default()
         },
     );
@@ -60,11 +100,19 @@ pub fn simulate(seed: u64, geometry_window: Option<f64>, out: &Path) -> CliResul
     Ok(())
 }
 
-/// Runs the main job on the embedded sample, or on simulated subject `seed`.
-pub fn demo(seed: Option<u64>) -> CliResult {
+/// Runs the main job on the embedded sample, or on simulated subject `seed`
+/// (subject 1 when only ARKit's mesh is asked for).
+pub fn demo(seed: Option<u64>, face: &FaceArgs) -> CliResult {
+    let basis = face.basis()?;
+    let on_arkit = matches!(basis, FaceBasis::Arkit(_));
+    let seed = seed.or(on_arkit.then_some(1));
+    let options = SimulationOptions {
+        face: basis,
+        ..SimulationOptions::default()
+    };
     let (session, bytes) = match seed {
         Some(seed) => {
-            let session = simulate_with_bar(seed, SimulationOptions::default());
+            let session = simulate_with_bar(seed, options);
             let bytes = session_file::encode(&session)?.len();
             (session, bytes)
         }
@@ -74,7 +122,7 @@ pub fn demo(seed: Option<u64>) -> CliResult {
         ),
     };
     let source = match seed {
-        Some(seed) => format!("simulated subject {seed}"),
+        Some(seed) => format!("simulated subject {seed} ({} mesh)", basis.name()),
         None => "embedded sample (simulated subject 1)".to_string(),
     };
     println!("Likeness demo: {source}\n");
@@ -87,7 +135,7 @@ pub fn demo(seed: Option<u64>) -> CliResult {
     println!("\nThe avatar (§3.3):\n");
     // A second person, for the preview of two people's faces.
     let other_seed = seed.map_or(2, |s| s.wrapping_add(1));
-    let other = simulate_with_bar(other_seed, SimulationOptions::default());
+    let other = simulate_with_bar(other_seed, options);
     let name = format!("subject {}", seed.unwrap_or(1));
     crate::avatar::demo_avatar(
         &session,

@@ -13,10 +13,10 @@
 //! at the neutral, captures and tests, the true activations of the tests,
 //! and the subject's own linear blendshapes.
 
-use crate::face_mask::face_mask;
+use crate::face_basis::FaceBasis;
 use crate::performance::{NEUTRAL_SCAN_AT, perform_session};
 use crate::subject::Subject;
-use crate::template::{generic_template, to_f32};
+use crate::template::to_f32;
 use crate::timeline::{PromptTrack, Timeline, frame_at};
 use crate::tracker::{Tracker, high_rest_offsets};
 use glam::Vec3;
@@ -38,8 +38,12 @@ pub const FRAME_RATE: f64 = 60.0;
 pub const SAMPLE_GEOMETRY_WINDOW: f64 = 0.4;
 
 /// Choices of the simulated app.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default)]
 pub struct SimulationOptions {
+    /// The face the person is simulated on: the simulator's own mask (the
+    /// default, every committed session) or ARKit's own mesh
+    /// ([`crate::face_basis`]).
+    pub face: FaceBasis,
     /// `None`: store every frame's mesh. `Some(s)`: store meshes only within
     /// `s` seconds of a capture, a test expression or the neutral scan, as an
     /// app that keeps a ring buffer of recent frames would; the other frames
@@ -74,8 +78,8 @@ pub fn simulate_session_with(
     options: SimulationOptions,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Session {
-    let mask = face_mask();
-    let subject = Subject::from_seed(seed);
+    let mask = options.face.mask();
+    let subject = Subject::on(options.face, seed);
     let timeline = perform_session(options.performance.unwrap_or(seed), FRAME_RATE);
     let mut tracker = Tracker::new(seed, &mask.uv, FRAME_RATE)
         .with_rest_offsets(high_rest_offsets(seed, options.high_rest_groups));
@@ -105,7 +109,7 @@ pub fn simulate_session_with(
         device: simulated_device(seed),
         frame_rate: FRAME_RATE as f32,
         topology: mask.topology.clone(),
-        template: generic_template(),
+        template: options.face.template(),
         neutral,
         frames,
         captures,

@@ -27,7 +27,8 @@ pub struct SparseField {
 }
 
 impl SparseField {
-    fn from_dense(dense: &[DVec3]) -> SparseField {
+    /// The nonzero entries of a dense field.
+    pub fn from_dense(dense: &[DVec3]) -> SparseField {
         SparseField {
             entries: dense
                 .iter()
@@ -38,7 +39,18 @@ impl SparseField {
         }
     }
 
-    fn add_to(&self, positions: &mut [DVec3], scale: f64) {
+    /// Adds `map` applied to each of `other`'s displacements to this field.
+    pub fn add_scaled(&mut self, other: &SparseField, map: DMat3) {
+        let mut merged: std::collections::BTreeMap<u32, DVec3> =
+            self.entries.iter().copied().collect();
+        for (i, d) in &other.entries {
+            *merged.entry(*i).or_insert(DVec3::ZERO) += map * *d;
+        }
+        self.entries = merged.into_iter().collect();
+    }
+
+    /// Adds `scale` times the field to `positions`.
+    pub fn add_to(&self, positions: &mut [DVec3], scale: f64) {
         for (i, d) in &self.entries {
             positions[*i as usize] += scale * *d;
         }

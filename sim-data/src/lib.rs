@@ -6,11 +6,13 @@
 
 #![warn(missing_docs)]
 
+pub mod arkit_face;
 pub mod avatar_variants;
 pub mod capture_session;
 pub mod compressed_glb;
 pub mod default_avatar;
 pub mod envelope;
+pub mod face_basis;
 pub mod face_mask;
 pub mod face_model;
 pub mod grid_avatar;

@@ -16,10 +16,10 @@
 //!   opening, a smile with an open jaw carries a corrective, and a closing
 //!   lid bulges (see [`crate::face_model`]).
 
-use crate::face_mask::face_mask;
+use crate::face_basis::FaceBasis;
 use crate::face_model::FaceModel;
 use crate::regions::{Region, kernel};
-use crate::shape_spec::{GLIDE, HINGE, Handle, JawJoint, ShapeSpec, Special, generic_specs};
+use crate::shape_spec::{Handle, JawJoint, ShapeSpec, Special, generic_specs};
 use glam::{DMat3, DQuat, DVec3};
 use likeness::{BLENDSHAPE_COUNT, Blendshape};
 use rand::{Rng, SeedableRng};
@@ -148,10 +148,19 @@ fn style_shape(rng: &mut ChaCha8Rng, spec: &ShapeSpec, gain: f64) -> ShapeSpec {
 }
 
 impl Subject {
-    /// Draws a person from `seed`; the same seed always gives the same person.
+    /// Draws a person from `seed` on the simulator's mask; the same seed
+    /// always gives the same person.
     pub fn from_seed(seed: u64) -> Subject {
+        Subject::on(FaceBasis::Simulator, seed)
+    }
+
+    /// Draws a person from `seed` on `basis`: the same draws on every
+    /// basis, so seed 5 on ARKit's mesh has seed 5's proportions and style
+    /// ([`crate::face_basis`]).
+    pub fn on(basis: FaceBasis, seed: u64) -> Subject {
         let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x5355_424a_4543_5400); // "SUBJECT"
-        let mask = face_mask();
+        let mask = basis.mask();
+        let placed = basis.jaw();
         let scale = DMat3::from_diagonal(DVec3::from_array(
             IDENTITY_SCALE_SD.map(|sd| 1.0 + normal(&mut rng, sd)),
         ));
@@ -179,8 +188,9 @@ impl Subject {
             .collect();
         let jaw = JawJoint {
             hinge: scale
-                * (HINGE + DVec3::new(0.0, normal(&mut rng, 0.004), normal(&mut rng, 0.004))),
-            glide: scale * GLIDE,
+                * (placed.hinge
+                    + DVec3::new(0.0, normal(&mut rng, 0.004), normal(&mut rng, 0.004))),
+            glide: scale * placed.glide,
         };
         let generic = generic_specs();
         let mut gains = [0.0; BLENDSHAPE_COUNT];
@@ -200,6 +210,11 @@ impl Subject {
             .map(|s| style_shape(&mut rng, &generic[s.index()], gains[s.index()]))
             .collect();
         let mut model = FaceModel::build(mask, neutral, &specs, scale, jaw);
+        if let Some(offsets) = basis.offsets() {
+            for (delta, offset) in model.deltas.iter_mut().zip(offsets) {
+                delta.add_scaled(offset, scale);
+            }
+        }
         for (side, sign) in [(0, 1.0), (1, -1.0)] {
             let corrective = Handle {
                 centre: [sign * 0.025, -0.047],

@@ -75,7 +75,7 @@ pub fn face_checks(
     let triangles = face_part_triangles(avatar, found);
 
     // The fit, at the points the stock registration found.
-    let points = skin_points(&made.registration, &stock_rest, &triangles);
+    let points = skin_points(&made.registration, &stock_rest, &triangles, f64::INFINITY);
     let fit_max_mm = points
         .iter()
         .zip(person.neutral())

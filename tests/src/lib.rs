@@ -4,6 +4,7 @@
 //! committed sessions are, and Live Link Face CSV text. See
 //! `tests/README.md` for which kind of test lives where.
 
+pub mod arkit_people;
 pub mod avatar_quality;
 pub mod bend;
 pub mod committed;

@@ -12,6 +12,7 @@
 //! | §3.3, Fig. 3 | seamless partial deformation transfer: the person's shapes implanted | [`partial_transfer`] |
 //! | beyond §3.3 | the person's own face at rest: the scanned neutral through `M`, the head, eyes and teeth following | [`person_face`] |
 //! | §3.3 end to end | the person's avatar as GLB bytes, steps skipped said, progress and cancel | [`personal_avatar`] |
+//! | (beyond the paper) the product checks its output | torn edges, folds, the blink, lids in eyes, Eq. (4)'s residual, spikes at rest | [`implant_check`] |
 //! | §4.2, Fig. 7 and 8 | manual, automatic and personalized animation against the person's expression on the face region | [`likeness_check`] |
 //! | | what was made, in a few sentences for the app | [`avatar_summary`] |
 //! | Eq. (1) on the avatar | the avatar posed by ARKit weights (the app's live preview) | [`avatar_pose`] |
@@ -19,6 +20,7 @@
 pub mod avatar_pose;
 pub mod avatar_summary;
 pub mod glb;
+pub mod implant_check;
 pub mod likeness_check;
 pub mod model;
 pub mod own_shapes;

@@ -90,7 +90,7 @@ impl MaskOnSkin {
         positions: &[DVec3],
         face_triangles: &[[u32; 3]],
     ) -> MaskOnSkin {
-        let points = skin_points(registration, positions, face_triangles);
+        let points = skin_points(registration, positions, face_triangles, f64::INFINITY);
         let n = points.len();
         let triangles = &registration.map.mask_triangles;
         let rows: Vec<(u32, [u32; 3], [f64; 3])> = registration
@@ -171,11 +171,17 @@ impl MaskOnSkin {
 /// corners and barycentrics of the closest point of `face_triangles`
 /// (avatar vertex indices over rest `positions`) among those facing the
 /// same way (normals within 60°, as the registration pairs them), else the
-/// plain closest point; `None` only when there are no triangles.
+/// plain closest point; `None` when there are no triangles. With a finite
+/// `reach` (avatar units) only points within it count, and a mask vertex
+/// with no compatible point that near is off the skin (`None`): the mask
+/// reaches past the avatar's skin there (ARKit's own mesh curls into the
+/// mouth further than many avatars' lips), and the skin far from it is not
+/// its point.
 pub fn skin_points(
     registration: &FaceRegistration,
     positions: &[DVec3],
     face_triangles: &[[u32; 3]],
+    reach: f64,
 ) -> Vec<Option<([u32; 3], [f64; 3])>> {
     let grid = TriangleGrid::new(positions, face_triangles);
     // The compatible closest point: a mask vertex on the lip's edge takes
@@ -211,10 +217,14 @@ pub fn skin_points(
         .enumerate()
         .map(|(i, (p, n))| {
             let lip = lips.lip_of_vertex(i as u32);
-            grid.closest_where(*p, f64::INFINITY, |t| {
+            let compatible = grid.closest_where(*p, reach, |t| {
                 grid.triangle_normal(t).dot(*n) >= MIN_NORMAL_DOT && !other_lip(t, lip)
-            })
-            .or_else(|| grid.closest(*p))
+            });
+            if reach.is_finite() {
+                compatible
+            } else {
+                compatible.or_else(|| grid.closest(*p))
+            }
             .map(|c| (grid.triangles()[c.triangle], c.barycentric))
         })
         .collect()

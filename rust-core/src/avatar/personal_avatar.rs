@@ -14,6 +14,7 @@ use super::glb::{
     GlbAvatar, GlbError, MeshLook, NewGlbOptions, NewShapes, TargetEncoding, check_avatar,
     new_avatar_glb, written_back_glb,
 };
+use super::implant_check::{Fault, RestSpike, check_shapes, rest_spike};
 use super::model::{Avatar, AvatarMesh, AvatarPart};
 use super::partial_transfer::{ImplantError, Implanted, implant};
 use super::person_face::{TakeFaceError, TakenFace, take_face};
@@ -136,6 +137,9 @@ pub enum AvatarWarning {
     /// No rigid piece (teeth, gums) follows the jaw: the mouth's inside
     /// is not held rigid.
     NoTeeth,
+    /// A shape of the person's avatar is past a limit of the check
+    /// ([`super::implant_check`]): it is written, and still animates.
+    Fault(Fault),
 }
 
 impl fmt::Display for AvatarWarning {
@@ -159,6 +163,7 @@ impl fmt::Display for AvatarWarning {
             AvatarWarning::NoTeeth => f.write_str(
                 "no teeth found (no piece of a mesh that jawOpen moves rigidly): the mouth's inside follows the retargeted shapes as they are",
             ),
+            AvatarWarning::Fault(fault) => fault.fmt(f),
         }
     }
 }
@@ -212,6 +217,15 @@ pub enum AvatarError {
         /// Why.
         #[source]
         source: ImplantError,
+    },
+    /// Taking the person's face moved something off the face further than
+    /// the face itself: the avatar would show a spike.
+    #[error("{file}: {spike}")]
+    RestSpike {
+        /// The avatar's file.
+        file: String,
+        /// Where.
+        spike: RestSpike,
     },
     /// The caller's [`Progress`] asked to stop before `step`.
     #[error("cancelled before {}", .0.name())]
@@ -319,6 +333,12 @@ pub fn personal_avatar(
                     source,
                 },
             )?;
+            if let Some(spike) = rest_spike(avatar, &registration, &taken.moved) {
+                return Err(AvatarError::RestSpike {
+                    file: file.clone(),
+                    spike,
+                });
+            }
             Some(taken)
         }
     };
@@ -356,6 +376,18 @@ pub fn personal_avatar(
             (implanted.shapes.clone(), Some(implanted))
         }
     };
+
+    // The product checks its own output against the avatar's own rig.
+    warnings.extend(
+        check_shapes(
+            avatar,
+            found_on,
+            &displacements,
+            &retargeting.floored_residual,
+        )
+        .into_iter()
+        .map(AvatarWarning::Fault),
+    );
 
     go(AvatarStep::Writing)?;
     let mut new_shapes = per_part_shapes(avatar, &displacements);

@@ -180,6 +180,11 @@ pub struct Retargeting {
     /// Relative residual `‖G w̃_j − M B_j‖ / ‖M B_j‖` per shape (0 where
     /// `M B_j` vanishes).
     pub relative_residual: Vec<f64>,
+    /// The same with `‖M B_j‖` floored at
+    /// [`super::implant_check::RESIDUAL_FLOOR_MM`] RMS over the face
+    /// vertices (mask scale): what the avatar stage's check compares, so a
+    /// shape that hardly moves does not make a tiny residual look large.
+    pub floored_residual: Vec<f64>,
 }
 
 impl Retargeting {
@@ -411,16 +416,19 @@ pub fn retarget(
         .map_err(|_| RetargetError::Singular)?;
     let w = llt.solve(&gt_b);
     let fitted = &g * &w;
-    let relative_residual = (0..BLENDSHAPE_COUNT)
+    let floor = face.len() as f64
+        * (super::implant_check::RESIDUAL_FLOOR_MM * 1e-3 * registration.similarity.scale).powi(2);
+    let (relative_residual, floored_residual) = (0..BLENDSHAPE_COUNT)
         .map(|j| {
             let (mut err, mut norm) = (0.0, 0.0);
             for r in 0..rows {
                 err += (fitted[(r, j)] - rhs[(r, j)]).powi(2);
                 norm += rhs[(r, j)].powi(2);
             }
-            if norm > 0.0 { (err / norm).sqrt() } else { 0.0 }
+            let relative = if norm > 0.0 { (err / norm).sqrt() } else { 0.0 };
+            (relative, (err / norm.max(floor)).sqrt())
         })
-        .collect();
+        .unzip();
     Ok(Retargeting {
         targets,
         weights: (0..BLENDSHAPE_COUNT)
@@ -429,5 +437,6 @@ pub fn retarget(
         relative_ridge: RELATIVE_RIDGE,
         mu,
         relative_residual,
+        floored_residual,
     })
 }

@@ -14,7 +14,10 @@
 //! be between them (bi-Laplacian, like step 2's correction) and fades to
 //! zero within [`REACH_MM`] of the face along the skin ([`mod@rest_field`]).
 //! The lid margins and the inner lips, which the map `M` leaves out, are
-//! held by the mask's rims like every other point. Skin that touches
+//! held by the mask's rims like every other point. A mask vertex off the
+//! skin (farther than the registration's face tolerance), or lying folded
+//! on it so that its change contradicts its neighbours'
+//! ([`mod@consistent_points`]), asks nothing. Skin that touches
 //! itself at rest (the lips along the mouth's line) stays together where
 //! the person's lips stay together, and never passes through itself
 //! ([`rest_field::keep_touching`]).
@@ -28,9 +31,11 @@
 //!
 //! | what | file |
 //! |---|---|
+//! | only the wanted changes the skin can take: none from a mask lying folded on it | [`mod@consistent_points`] |
 //! | the skin through the scanned neutral at the mask's points, the head following (bi-Laplacian, zero beyond the reach) | [`mod@rest_field`] |
 //! | eyeballs into the person's eye openings, rigid pieces with the skin around them, the rest with the skin nearest | [`followers`] |
 
+pub mod consistent_points;
 pub mod followers;
 pub mod rest_field;
 
@@ -39,6 +44,9 @@ use super::own_shapes::{face_part_triangles, skin_points};
 use super::partial_transfer::adjacent_step::within;
 use super::partial_transfer::stay_put::STILL_MM;
 use super::registration::FaceRegistration;
+use super::registration::find_face::FACE_TOLERANCE_MM;
+use crate::geometry::closest_point::TriangleGrid;
+use consistent_points::{AskedChange, consistent_points};
 use followers::{EyeFollowed, follow_skin};
 use glam::DVec3;
 use rest_field::{PointChange, TOUCH_MM, keep_touching, rest_field, touching_pairs};
@@ -87,6 +95,16 @@ pub struct TakenFace {
     pub fit_mean_mm: f64,
     /// See `fit_mean_mm`.
     pub fit_max_mm: f64,
+    /// How far the scanned neutral lies from the new skin (its closest
+    /// point), over the mask's vertices on the skin: mean and 95th
+    /// percentile (mm, mask scale).
+    pub surface_mean_mm: f64,
+    /// See `surface_mean_mm`.
+    pub surface_p95_mm: f64,
+    /// The mask vertices, increasing, that asked nothing of the skin and
+    /// are not in the fit: off the skin, or lying folded on it
+    /// ([`mod@consistent_points`]).
+    pub points_left_out: Vec<u32>,
     /// The largest change of a vertex (mm, mask scale).
     pub largest_mm: f64,
     /// Each eyeball as it followed its lids.
@@ -119,7 +137,14 @@ pub fn take_face(
     let triangles = face_part_triangles(avatar, registration);
     let s = registration.similarity;
     let to_avatar = s.scale * 1e-3;
-    let points = skin_points(registration, &positions, &triangles);
+    // A mask vertex off the skin (farther from it than the registration's
+    // face tolerance) asks nothing of it.
+    let points = skin_points(
+        registration,
+        &positions,
+        &triangles,
+        FACE_TOLERANCE_MM * to_avatar,
+    );
     let at = |point: &Option<([u32; 3], [f64; 3])>, field: &[DVec3]| {
         point.map(|(t, b)| (0..3).map(|k| field[t[k] as usize] * b[k]).sum::<DVec3>())
     };
@@ -139,10 +164,27 @@ pub fn take_face(
         }
     }
     let region = within(&positions, &triangles, &face, REACH_MM * to_avatar);
+    // Only changes the skin can take: a mask lying folded on the skin asks
+    // two points a hair apart for changes far apart.
+    let on_skin: Vec<usize> = (0..points.len()).filter(|i| points[*i].is_some()).collect();
+    let lips = registration.lip_sides();
+    let asked: Vec<AskedChange> = on_skin
+        .iter()
+        .map(|&i| {
+            let p = at(&points[i], &positions).unwrap_or(registration.mask_on_avatar[i]);
+            (p, change_at_mask[i], lips.lips_of_vertex(i as u32))
+        })
+        .collect();
+    let mut kept = vec![false; points.len()];
+    for k in consistent_points(&asked, to_avatar) {
+        kept[on_skin[k]] = true;
+    }
     let wanted_changes: Vec<PointChange> = points
         .iter()
         .zip(&change_at_mask)
-        .filter_map(|(point, d)| point.map(|(t, b)| (t, b, *d)))
+        .zip(&kept)
+        .filter(|(_, keep)| **keep)
+        .filter_map(|((point, d), _)| point.map(|(t, b)| (t, b, *d)))
         .collect();
     let ties = touching_pairs(&positions, &triangles, TOUCH_MM * to_avatar);
     let mut field = rest_field(n, &triangles, &region, &wanted_changes, &ties)
@@ -172,17 +214,36 @@ pub fn take_face(
     let fits: Vec<f64> = points
         .iter()
         .enumerate()
+        .filter(|(i, _)| kept[*i])
         .filter_map(|(i, point)| {
             Some((at(point, &new_positions)? - wanted[i]).length() / to_avatar)
         })
         .collect();
+    // How far the scanned face is from the new skin, wherever the mask
+    // lies on the skin (left out or not): the face a user compares.
+    let new_skin = TriangleGrid::new(&new_positions, &triangles);
+    let mut surface: Vec<f64> = (0..points.len())
+        .filter(|i| points[*i].is_some())
+        .filter_map(|i| Some(new_skin.closest(wanted[i])?.distance / to_avatar))
+        .collect();
+    surface.sort_by(f64::total_cmp);
+    let surface_mean_mm = surface.iter().sum::<f64>() / surface.len().max(1) as f64;
+    let surface_p95_mm = surface
+        .get((surface.len() * 95 / 100).min(surface.len().saturating_sub(1)))
+        .copied()
+        .unwrap_or(0.0);
     let largest = field.iter().map(|u| u.length()).fold(0.0, f64::max) / to_avatar;
     Ok(TakenFace {
+        surface_mean_mm,
+        surface_p95_mm,
         avatar: taken,
         registration: moved_registration,
         moved: field,
         fit_mean_mm: fits.iter().sum::<f64>() / fits.len().max(1) as f64,
         fit_max_mm: fits.iter().copied().fold(0.0, f64::max),
+        points_left_out: (0..points.len() as u32)
+            .filter(|i| !kept[*i as usize])
+            .collect(),
         largest_mm: largest,
         eyeballs,
         seconds: started.elapsed().as_secs_f64(),

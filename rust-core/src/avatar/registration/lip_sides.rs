@@ -96,6 +96,12 @@ impl LipSides {
             .fold(0u8, |acc, b| acc | b)
     }
 
+    /// The lips of a mask vertex (bits; 0 farther than [`LIP_RINGS`] from
+    /// the slit).
+    pub fn lips_of_vertex(&self, v: u32) -> u8 {
+        self.label.get(&v).copied().unwrap_or(0)
+    }
+
     /// The lip (`1` or `2`) of a slit vertex between the corners; `None`
     /// for a corner or a vertex off the slit.
     pub fn lip_of_vertex(&self, v: u32) -> Option<u8> {

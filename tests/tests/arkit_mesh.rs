@@ -1,0 +1,167 @@
+//! The avatar stage for people on ARKit's own mesh, the one a real iPhone
+//! sends (`../shared/arkit-face/`, never committed): five simulated people
+//! ([`likeness_tests::arkit_people`]) on the default avatar, on every
+//! generated variant and on ICT-FaceKit. Each test skips, saying so, where
+//! `../shared/` is absent, and fails there under CI (`CI=true`).
+
+use likeness::avatar::glb::read::{GlbAvatar, read_avatar_bytes};
+use likeness::avatar::personal_avatar::{
+    AvatarError, AvatarShapes, AvatarWarning, PersonalAvatar, RestFace, personal_avatar,
+};
+use likeness::avatar::registration::find_face;
+use likeness_sim::avatar_variants::avatar_variants;
+use likeness_tests::arkit_people::{ArkitPerson, arkit_people};
+use likeness_tests::shared_avatars::ict_facekit;
+
+fn default_glb() -> GlbAvatar {
+    let bytes = likeness_sim::default_avatar::default_avatar_glb().expect("builds");
+    read_avatar_bytes(&bytes, "default avatar").expect("reads")
+}
+
+/// The default avatar, every generated variant, and ICT-FaceKit where
+/// `../shared/avatars/` has it.
+fn every_avatar() -> Vec<GlbAvatar> {
+    let mut avatars = vec![default_glb()];
+    for v in avatar_variants() {
+        avatars.push(read_avatar_bytes(&v.glb, v.name).expect("a variant reads"));
+    }
+    avatars.extend(ict_facekit());
+    avatars
+}
+
+fn made(
+    glb: &GlbAvatar,
+    person: &ArkitPerson,
+    face: RestFace,
+) -> Result<PersonalAvatar, AvatarError> {
+    personal_avatar(
+        glb,
+        &person.input(),
+        None,
+        AvatarShapes::Personalized,
+        face,
+        &mut |_| true,
+    )
+}
+
+/// ARKit's mask registers on every avatar as the simulator's does: over
+/// nearly all of it, within a tenth of a millimetre on average, with both
+/// eyeballs found.
+#[test]
+fn arkits_mesh_finds_the_face_of_every_avatar() {
+    let Some(people) = arkit_people() else { return };
+    let person = &people[0];
+    for glb in every_avatar() {
+        let name = glb.file.display().to_string();
+        let found = find_face(&glb.avatar, &person.session.topology, &person.rig)
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        eprintln!(
+            "{name}: coverage {:.1}%, residual {:.3} mm mean, {:.2} mm max, {:.2} s",
+            100.0 * found.coverage,
+            found.residual_mean_mm,
+            found.residual_max_mm,
+            found.seconds
+        );
+        assert!(
+            found.coverage >= 0.95,
+            "{name}: coverage {}",
+            found.coverage
+        );
+        assert!(
+            found.residual_mean_mm <= 0.15,
+            "{name}: residual {}",
+            found.residual_mean_mm
+        );
+        assert_eq!(found.eyeballs.len(), 2, "{name}: eyeballs");
+    }
+}
+
+/// Point 3: the default avatar takes each of the five people's faces.
+/// Nothing off the face moves more than the face itself (else the avatar
+/// is refused, `AvatarError::RestSpike`: ARKit's inner lips, folded over
+/// the avatar's outer lips by the registration, once pulled the mouth's
+/// and the sockets' linings 230 mm out), and the scanned neutral lies on
+/// the new skin: within 0.3 mm on average over the mask's vertices on the
+/// skin, and within 1.0 mm at the 95th percentile (the goal is 0.8 mm:
+/// the inner lips' curl and the nostrils, which the default avatar has no
+/// surface for, are 13–15% of the vertices and set the percentile).
+#[test]
+fn the_default_avatar_takes_the_face_of_five_people_on_arkits_mesh() {
+    let Some(people) = arkit_people() else { return };
+    let glb = default_glb();
+    for person in people {
+        let made = made(&glb, person, RestFace::Person)
+            .unwrap_or_else(|e| panic!("seed {}: {e}", person.seed));
+        let taken = made.taken_face.as_ref().expect("the person's face");
+        eprintln!(
+            "seed {}: scan to skin {:.3} mm mean, {:.2} mm p95; {} mask vertices left out; largest change {:.1} mm; warnings {:?}",
+            person.seed,
+            taken.surface_mean_mm,
+            taken.surface_p95_mm,
+            taken.points_left_out.len(),
+            taken.largest_mm,
+            made.warnings
+                .iter()
+                .map(|w| w.to_string())
+                .collect::<Vec<_>>()
+        );
+        assert!(
+            taken.surface_mean_mm <= 0.3,
+            "seed {}: {}",
+            person.seed,
+            taken.surface_mean_mm
+        );
+        assert!(
+            taken.surface_p95_mm <= 1.0,
+            "seed {}: {}",
+            person.seed,
+            taken.surface_p95_mm
+        );
+        // The points kept are passed through (on average; where lips the
+        // avatar holds together at rest are parted in the scan, by up to
+        // 1.1 mm, they stay together).
+        assert!(
+            taken.fit_mean_mm <= 0.05,
+            "seed {}: {}",
+            person.seed,
+            taken.fit_mean_mm
+        );
+    }
+}
+
+/// Point 4 on every avatar: two people on ARKit's mesh each make an avatar
+/// (none refused), and whatever the check finds past a limit is in the
+/// warnings, which name the shape.
+#[test]
+fn people_on_arkits_mesh_are_checked_on_every_avatar() {
+    let Some(people) = arkit_people() else { return };
+    for glb in every_avatar() {
+        let name = glb.file.display().to_string();
+        let face = RestFace::chosen(name == "default avatar", None);
+        for person in &people[..2] {
+            let made = made(&glb, person, face)
+                .unwrap_or_else(|e| panic!("{name}, seed {}: {e}", person.seed));
+            let faults: Vec<String> = made
+                .warnings
+                .iter()
+                .filter_map(|w| match w {
+                    AvatarWarning::Fault(f) => Some(f.to_string()),
+                    _ => None,
+                })
+                .collect();
+            eprintln!(
+                "{name}, seed {}: {} faults {faults:?}",
+                person.seed,
+                faults.len()
+            );
+            for f in &faults {
+                assert!(
+                    likeness::Blendshape::ALL
+                        .iter()
+                        .any(|b| f.contains(b.name())),
+                    "{name}: a fault that names no shape: {f}"
+                );
+            }
+        }
+    }
+}

@@ -1,0 +1,182 @@
+//! The product's check of its own output
+//! (`likeness::avatar::implant_check`): quiet on a good avatar, and loud,
+//! naming the shape, on each kind of breakage it measures.
+
+use glam::{DVec3, Vec3};
+use likeness::Blendshape;
+use likeness::avatar::glb::read::{GlbAvatar, read_avatar_bytes};
+use likeness::avatar::implant_check::{Fault, check_shapes, rest_spike};
+use likeness::avatar::personal_avatar::{AvatarWarning, PersonalAvatar};
+
+fn default_glb() -> GlbAvatar {
+    let bytes = likeness_sim::default_avatar::default_avatar_glb().expect("builds");
+    read_avatar_bytes(&bytes, "default avatar").expect("reads")
+}
+
+fn subject_1(glb: &GlbAvatar) -> PersonalAvatar {
+    likeness_tests::committed::personal_avatar_of(1, glb).expect("makes the avatar")
+}
+
+/// Committed subject 1's implanted shapes on `made` (displacements per
+/// avatar vertex), to break.
+fn shapes_of(made: &PersonalAvatar) -> Vec<Vec<Vec3>> {
+    made.implanted
+        .as_ref()
+        .expect("personalized")
+        .shapes
+        .clone()
+}
+
+#[test]
+fn a_good_avatar_passes_the_check_in_silence() {
+    let glb = default_glb();
+    let made = subject_1(&glb);
+    let faults: Vec<&AvatarWarning> = made
+        .warnings
+        .iter()
+        .filter(|w| matches!(w, AvatarWarning::Fault(_)))
+        .collect();
+    assert!(faults.is_empty(), "{faults:?}");
+}
+
+#[test]
+fn each_breakage_is_named_with_its_shape() {
+    let glb = default_glb();
+    let made = subject_1(&glb);
+    let found = &made.registration;
+    let avatar = &glb.avatar;
+    let mut shapes = shapes_of(&made);
+    let rest = avatar.positions();
+    let face: Vec<u32> = found.map.face.iter().map(|f| f.vertex).collect();
+    // A blink that no longer closes.
+    shapes[Blendshape::EyeBlinkLeft.index()].fill(Vec3::ZERO);
+    // A smile that turns the face inside out (its depth mirrored).
+    let smile = &mut shapes[Blendshape::MouthSmileRight.index()];
+    let depth = |p: Vec3| (found.similarity.rotation.transpose() * p.as_dvec3()).z;
+    let mean_depth = face.iter().map(|&v| depth(rest[v as usize])).sum::<f64>() / face.len() as f64;
+    let forward = (found.similarity.rotation * DVec3::Z).as_vec3();
+    for &v in &face {
+        let d = depth(rest[v as usize]) - mean_depth;
+        smile[v as usize] = -2.0 * d as f32 * forward;
+    }
+    // A jaw that pulls every other face vertex 5 cm forward: torn edges.
+    let jaw = &mut shapes[Blendshape::JawOpen.index()];
+    for &v in face.iter().step_by(2) {
+        jaw[v as usize] += 0.05 * forward;
+    }
+    // A retargeting that reproduced nothing of browInnerUp.
+    let mut residual = made.retargeting.floored_residual.clone();
+    residual[Blendshape::BrowInnerUp.index()] = 50.0;
+
+    let faults = check_shapes(avatar, found, &shapes, &residual);
+    let has =
+        |b: Blendshape, kind: fn(&Fault) -> bool| faults.iter().any(|f| f.shape() == b && kind(f));
+    assert!(
+        has(Blendshape::EyeBlinkLeft, |f| matches!(
+            f,
+            Fault::BlinkOpen { .. }
+        )),
+        "{faults:?}"
+    );
+    assert!(
+        has(Blendshape::MouthSmileRight, |f| matches!(
+            f,
+            Fault::Folded { .. }
+        )),
+        "{faults:?}"
+    );
+    assert!(
+        has(Blendshape::JawOpen, |f| matches!(f, Fault::Torn { .. })),
+        "{faults:?}"
+    );
+    assert!(
+        has(Blendshape::BrowInnerUp, |f| matches!(
+            f,
+            Fault::Residual { .. }
+        )),
+        "{faults:?}"
+    );
+    for f in &faults {
+        assert!(f.to_string().contains(f.shape().name()), "{f}");
+    }
+    // Nothing else was broken.
+    let broken = [
+        Blendshape::EyeBlinkLeft,
+        Blendshape::MouthSmileRight,
+        Blendshape::JawOpen,
+        Blendshape::BrowInnerUp,
+    ];
+    assert!(
+        faults.iter().all(|f| broken.contains(&f.shape())),
+        "{faults:?}"
+    );
+}
+
+#[test]
+fn a_lid_pushed_into_the_eyeball_is_found() {
+    let glb = default_glb();
+    let made = subject_1(&glb);
+    let found = &made.registration;
+    let avatar = &glb.avatar;
+    let mut shapes = shapes_of(&made);
+    let rest: Vec<DVec3> = avatar.positions().iter().map(|p| p.as_dvec3()).collect();
+    let eye = &found.eyeballs[0];
+    let centre = eye.iter().map(|&v| rest[v as usize]).sum::<DVec3>() / eye.len() as f64;
+    let radius = eye
+        .iter()
+        .map(|&v| (rest[v as usize] - centre).length())
+        .fold(0.0, f64::max);
+    // eyeSquintLeft takes the skin vertex nearest the eyeball's centre
+    // to half a radius in front of the centre, deep inside.
+    let forward = found.similarity.rotation * DVec3::Z;
+    let nearest = (0..rest.len())
+        .filter(|v| !found.eyeballs.iter().flatten().any(|e| *e as usize == *v))
+        .min_by(|a, b| {
+            (rest[*a] - centre)
+                .length()
+                .total_cmp(&(rest[*b] - centre).length())
+        })
+        .expect("skin");
+    assert!((rest[nearest] - centre).length() < 1.5 * radius);
+    shapes[Blendshape::EyeSquintLeft.index()][nearest] =
+        (centre + 0.5 * radius * forward - rest[nearest]).as_vec3();
+    let faults = check_shapes(avatar, found, &shapes, &made.retargeting.floored_residual);
+    assert!(
+        faults.iter().any(|f| matches!(
+            f,
+            Fault::LidInEyeball {
+                shape: Blendshape::EyeSquintLeft,
+                ..
+            }
+        )),
+        "{faults:?}"
+    );
+}
+
+#[test]
+fn a_spike_at_rest_is_refused_naming_its_part() {
+    let glb = default_glb();
+    let made = likeness_tests::committed::personal_avatar_with(
+        1,
+        &glb,
+        likeness::avatar::personal_avatar::RestFace::Person,
+    )
+    .expect("makes the avatar");
+    let taken = made.taken_face.as_ref().expect("the person's face");
+    let found = &made.registration;
+    assert_eq!(rest_spike(&glb.avatar, found, &taken.moved), None);
+    // One vertex of the mouth's lining (off the face) thrown 20 cm.
+    let mut moved = taken.moved.clone();
+    let lining = glb
+        .avatar
+        .parts()
+        .iter()
+        .position(|p| p.name.contains("mouth") || p.name.contains("Mouth"))
+        .unwrap_or(3);
+    let v = glb.avatar.vertex_offsets()[lining] + 5;
+    moved[v] += DVec3::new(0.0, 0.0, 0.2);
+    let spike = rest_spike(&glb.avatar, found, &moved).expect("a spike");
+    assert_eq!(spike.vertex as usize, v);
+    assert!(spike.moved_mm > 150.0 && spike.face_mm < 20.0, "{spike:?}");
+    assert!(spike.to_string().contains(&spike.part), "{spike}");
+}

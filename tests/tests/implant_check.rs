@@ -164,7 +164,10 @@ fn a_spike_at_rest_is_refused_naming_its_part() {
     .expect("makes the avatar");
     let taken = made.taken_face.as_ref().expect("the person's face");
     let found = &made.registration;
-    assert_eq!(rest_spike(&glb.avatar, found, &taken.moved), None);
+    assert_eq!(
+        rest_spike(&glb.avatar, found, &taken.moved, taken.asked_largest_mm),
+        None
+    );
     // One vertex of the mouth's lining (off the face) thrown 20 cm.
     let mut moved = taken.moved.clone();
     let lining = glb
@@ -175,8 +178,8 @@ fn a_spike_at_rest_is_refused_naming_its_part() {
         .unwrap_or(3);
     let v = glb.avatar.vertex_offsets()[lining] + 5;
     moved[v] += DVec3::new(0.0, 0.0, 0.2);
-    let spike = rest_spike(&glb.avatar, found, &moved).expect("a spike");
+    let spike = rest_spike(&glb.avatar, found, &moved, taken.asked_largest_mm).expect("a spike");
     assert_eq!(spike.vertex as usize, v);
-    assert!(spike.moved_mm > 150.0 && spike.face_mm < 20.0, "{spike:?}");
+    assert!(spike.moved_mm > 150.0 && spike.asked_mm < 20.0, "{spike:?}");
     assert!(spike.to_string().contains(&spike.part), "{spike}");
 }

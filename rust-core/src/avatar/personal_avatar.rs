@@ -218,8 +218,8 @@ pub enum AvatarError {
         #[source]
         source: ImplantError,
     },
-    /// Taking the person's face moved something off the face further than
-    /// the face itself: the avatar would show a spike.
+    /// Taking the person's face moved something much further than the
+    /// scan asks of the face: the avatar would show a spike.
     #[error("{file}: {spike}")]
     RestSpike {
         /// The avatar's file.
@@ -333,7 +333,9 @@ pub fn personal_avatar(
                     source,
                 },
             )?;
-            if let Some(spike) = rest_spike(avatar, &registration, &taken.moved) {
+            if let Some(spike) =
+                rest_spike(avatar, &registration, &taken.moved, taken.asked_largest_mm)
+            {
                 return Err(AvatarError::RestSpike {
                     file: file.clone(),
                     spike,

@@ -46,7 +46,7 @@ use super::partial_transfer::stay_put::STILL_MM;
 use super::registration::FaceRegistration;
 use super::registration::find_face::FACE_TOLERANCE_MM;
 use crate::geometry::closest_point::TriangleGrid;
-use consistent_points::{AskedChange, consistent_points};
+use consistent_points::{AskedChange, across_the_slit, consistent_points, skin_lip_labels};
 use followers::{EyeFollowed, follow_skin};
 use glam::DVec3;
 use rest_field::{PointChange, TOUCH_MM, keep_touching, rest_field, touching_pairs};
@@ -107,6 +107,9 @@ pub struct TakenFace {
     pub points_left_out: Vec<u32>,
     /// The largest change of a vertex (mm, mask scale).
     pub largest_mm: f64,
+    /// The largest change the scan asks of the skin at a point it holds
+    /// (mm, mask scale): what the face itself moves by.
+    pub asked_largest_mm: f64,
     /// Each eyeball as it followed its lids.
     pub eyeballs: Vec<EyeFollowed>,
     /// Time taken (s).
@@ -168,6 +171,25 @@ pub fn take_face(
     // two points a hair apart for changes far apart.
     let on_skin: Vec<usize> = (0..points.len()).filter(|i| points[*i].is_some()).collect();
     let lips = registration.lip_sides();
+    let skin_lips = skin_lip_labels(registration, &lips, n);
+    // The lip of the skin a point lies on, where every corner of its
+    // triangle is of that one lip (0 otherwise).
+    let point_lip = |i: usize| {
+        points[i].map_or(0, |(t, _)| {
+            let corners = t.map(|v| skin_lips.get(v as usize).copied().unwrap_or(0));
+            if corners.iter().all(|l| *l == corners[0]) {
+                corners[0]
+            } else {
+                0
+            }
+        })
+    };
+    // A point of one lip lying on the other lip's skin is folded across
+    // the slit: it asks for nothing.
+    let on_skin: Vec<usize> = on_skin
+        .into_iter()
+        .filter(|&i| !across_the_slit(lips.lips_of_vertex(i as u32), point_lip(i)))
+        .collect();
     let asked: Vec<AskedChange> = on_skin
         .iter()
         .map(|&i| {
@@ -186,6 +208,11 @@ pub fn take_face(
         .filter(|(_, keep)| **keep)
         .filter_map(|((point, d), _)| point.map(|(t, b)| (t, b, *d)))
         .collect();
+    let asked_largest_mm = wanted_changes
+        .iter()
+        .map(|(_, _, d)| d.length())
+        .fold(0.0, f64::max)
+        / to_avatar;
     let ties = touching_pairs(&positions, &triangles, TOUCH_MM * to_avatar);
     let mut field = rest_field(n, &triangles, &region, &wanted_changes, &ties)
         .ok_or(TakeFaceError::Unsolved)?;
@@ -234,6 +261,7 @@ pub fn take_face(
         .unwrap_or(0.0);
     let largest = field.iter().map(|u| u.length()).fold(0.0, f64::max) / to_avatar;
     Ok(TakenFace {
+        asked_largest_mm,
         surface_mean_mm,
         surface_p95_mm,
         avatar: taken,

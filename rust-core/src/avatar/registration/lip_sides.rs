@@ -138,8 +138,11 @@ fn chains(
         }
     }
     let mut bits: HashMap<u32, u8> = HashMap::from([(corners.0, 3), (corners.1, 3)]);
-    // Walk from the first corner along each of its two edges to the other.
-    let starts = next.get(&corners.0).cloned().unwrap_or_default();
+    // Walk from the first corner along each of its two edges to the other,
+    // the edge to the lower-numbered vertex first: which chain is `1` is
+    // then the same every time the lips of one mask are found.
+    let mut starts = next.get(&corners.0).cloned().unwrap_or_default();
+    starts.sort_unstable();
     for (chain, &first) in starts.iter().take(2).enumerate() {
         let (mut previous, mut here) = (corners.0, first);
         while here != corners.1 && !bits.contains_key(&here) {

@@ -406,7 +406,7 @@ fn landmarks(
         lower_lid[side] = paired(&up, &down, p);
         upper_lid[side] = up;
     }
-    let (lo, hi, mut upper_lip, mut lower_lip) = split_at_corners(&mouth, p);
+    let (lo, hi, upper_lip, mut lower_lip) = split_at_corners(&mouth, p);
     for v in &upper_lip {
         let u = uv[*v as usize][0];
         let line = MOUTH_CENTRE[1] + 0.5 * lip_row_offset(u) + RIM_SIDE_MARGIN;
@@ -419,7 +419,6 @@ fn landmarks(
     }
     // From the right corner (−x) to the left, as the simulator's mask.
     lower_lip = paired(&upper_lip, &lower_lip, p);
-    upper_lip.shrink_to_fit();
     let nose_tip = (0..p.len())
         .max_by(|a, b| p[*a].z.total_cmp(&p[*b].z))
         .expect("vertices") as u32;

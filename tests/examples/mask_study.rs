@@ -52,16 +52,11 @@ fn most_folded(
     made: &likeness::avatar::personal_avatar::PersonalAvatar,
     stock: &likeness::avatar::Avatar,
 ) -> (usize, likeness::Blendshape) {
-    use likeness::avatar::implant_check::{eyeball_flags, folded_triangles, own_shape};
+    use likeness::avatar::implant_check::{folded_triangles, head_triangles, own_shape};
     let avatar = made.shaped(stock);
     let found = made.shaped_registration();
     let rest = avatar.positions();
-    let eyes = eyeball_flags(avatar, found);
-    let triangles: Vec<[u32; 3]> = avatar
-        .part_triangles(&found.face_parts())
-        .into_iter()
-        .filter(|t| t.iter().all(|&v| !eyes[v as usize]))
-        .collect();
+    let triangles = head_triangles(avatar, found);
     let shapes = &made.implanted.as_ref().expect("personalized").shapes;
     likeness::Blendshape::ALL
         .iter()

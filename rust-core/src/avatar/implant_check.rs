@@ -24,6 +24,7 @@ use super::registration::FaceRegistration;
 use super::registration::find_face::arkit_displacement;
 use crate::arkit::Blendshape;
 use crate::geometry::closest_point::TriangleGrid;
+use crate::personalize::blendshape_fit::in_parallel_ranges;
 use glam::{DVec3, Vec3};
 use std::fmt;
 
@@ -236,6 +237,17 @@ pub fn head_edges(avatar: &Avatar, found: &FaceRegistration) -> Vec<(u32, u32)> 
     edges.sort_unstable();
     edges.dedup();
     edges
+}
+
+/// The triangles of the avatar's face parts (the head's skin) with no
+/// corner in an eyeball.
+pub fn head_triangles(avatar: &Avatar, found: &FaceRegistration) -> Vec<[u32; 3]> {
+    let in_eyeball = eyeball_flags(avatar, found);
+    avatar
+        .part_triangles(&found.face_parts())
+        .into_iter()
+        .filter(|t| t.iter().all(|&v| !in_eyeball[v as usize]))
+        .collect()
 }
 
 /// Whether each avatar vertex is in an eyeball the registration found.
@@ -503,12 +515,7 @@ pub fn check_shapes(
 ) -> Vec<Fault> {
     let rest = avatar.positions();
     let edges = head_edges(avatar, found);
-    let in_eyeball = eyeball_flags(avatar, found);
-    let triangles: Vec<[u32; 3]> = avatar
-        .part_triangles(&found.face_parts())
-        .into_iter()
-        .filter(|t| t.iter().all(|&v| !in_eyeball[v as usize]))
-        .collect();
+    let triangles = head_triangles(avatar, found);
     let to_mm = 1000.0 / found.similarity.scale;
     // Skin that moves less than a quarter of the lid limit cannot take a
     // lid past it.
@@ -588,16 +595,19 @@ pub fn check_shapes(
         }
         faults
     };
-    // The shapes are independent: half on another thread.
-    let (first, second) = Blendshape::ALL.split_at(Blendshape::ALL.len() / 2);
-    let (mut faults, rest_faults) = std::thread::scope(|scope| {
-        let other = scope.spawn(|| second.iter().flat_map(|b| check(*b)).collect::<Vec<_>>());
-        let mine: Vec<Fault> = first.iter().flat_map(|b| check(*b)).collect();
-        (mine, other.join())
+    // The shapes are independent: over the cores, in Apple's order.
+    let runs = in_parallel_ranges(Blendshape::ALL.len(), |range| {
+        Blendshape::ALL[range]
+            .iter()
+            .flat_map(|b| check(*b))
+            .collect::<Vec<_>>()
     });
-    // A panicked thread's half is measured again here.
-    faults.extend(rest_faults.unwrap_or_else(|_| second.iter().flat_map(|b| check(*b)).collect()));
-    faults
+    match runs.into_iter().collect::<Option<Vec<_>>>() {
+        Some(runs) => runs.into_iter().flatten().collect(),
+        // A thread panicked: measure again here, so the panic surfaces on
+        // the caller's thread rather than as missing faults.
+        None => Blendshape::ALL.iter().flat_map(|b| check(*b)).collect(),
+    }
 }
 
 /// The largest change at rest `moved` (one per avatar vertex, avatar units)

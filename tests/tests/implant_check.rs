@@ -5,7 +5,9 @@
 use glam::{DVec3, Vec3};
 use likeness::Blendshape;
 use likeness::avatar::glb::read::{GlbAvatar, read_avatar_bytes};
-use likeness::avatar::implant_check::{Fault, check_shapes, rest_spike};
+use likeness::avatar::implant_check::{
+    FOLDED_SHARE, Fault, check_shapes, head_triangles, rest_folds, rest_spike,
+};
 use likeness::avatar::personal_avatar::{AvatarWarning, PersonalAvatar};
 
 fn default_glb() -> GlbAvatar {
@@ -15,6 +17,16 @@ fn default_glb() -> GlbAvatar {
 
 fn subject_1(glb: &GlbAvatar) -> PersonalAvatar {
     likeness_tests::committed::personal_avatar_of(1, glb).expect("makes the avatar")
+}
+
+/// Committed subject 1's avatar with the subject's face taken.
+fn subject_1_with_face(glb: &GlbAvatar) -> PersonalAvatar {
+    likeness_tests::committed::personal_avatar_with(
+        1,
+        glb,
+        likeness::avatar::personal_avatar::RestFace::Person,
+    )
+    .expect("makes the avatar")
 }
 
 /// Committed subject 1's implanted shapes on `made` (displacements per
@@ -156,12 +168,7 @@ fn a_lid_pushed_into_the_eyeball_is_found() {
 #[test]
 fn a_spike_at_rest_is_refused_naming_its_part() {
     let glb = default_glb();
-    let made = likeness_tests::committed::personal_avatar_with(
-        1,
-        &glb,
-        likeness::avatar::personal_avatar::RestFace::Person,
-    )
-    .expect("makes the avatar");
+    let made = subject_1_with_face(&glb);
     let taken = made.taken_face.as_ref().expect("the person's face");
     let found = &made.registration;
     assert_eq!(
@@ -182,4 +189,37 @@ fn a_spike_at_rest_is_refused_naming_its_part() {
     assert_eq!(spike.vertex as usize, v);
     assert!(spike.moved_mm > 150.0 && spike.asked_mm < 20.0, "{spike:?}");
     assert!(spike.to_string().contains(&spike.part), "{spike}");
+}
+
+/// A simulated person's face bends the default avatar's skin gently and is
+/// taken; the same change with a patch of the head's skin crumpled (every
+/// other vertex pushed in and out) is found as creases.
+#[test]
+fn a_face_that_creases_the_skin_at_rest_is_found() {
+    let glb = default_glb();
+    let made = subject_1_with_face(&glb);
+    let taken = made.taken_face.as_ref().expect("the person's face");
+    let found = &made.registration;
+    assert_eq!(rest_folds(&glb.avatar, found, &taken.moved), None);
+    // Crumple the head's skin round one point of the face: 1.5 mm in and
+    // out on alternate vertices, where the skin's triangles are 1–2 mm.
+    let rest = glb.avatar.positions();
+    let triangles = head_triangles(&glb.avatar, found);
+    let centre = rest[triangles[triangles.len() / 2][0] as usize];
+    let mm = found.similarity.scale / 1000.0;
+    let mut moved = taken.moved.clone();
+    let forward = found.similarity.rotation * DVec3::Z;
+    for (v, p) in rest.iter().enumerate() {
+        if (*p - centre).length() < 15.0 * mm as f32 {
+            let sign = if v % 2 == 0 { 1.0 } else { -1.0 };
+            moved[v] += forward * (sign * 1.5 * mm);
+        }
+    }
+    let folds = rest_folds(&glb.avatar, found, &moved).expect("creases");
+    assert!(folds.triangles > folds.limit, "{folds:?}");
+    assert_eq!(
+        folds.limit,
+        (FOLDED_SHARE * triangles.len() as f64).floor() as usize
+    );
+    assert!(folds.to_string().contains("keeps its own face"), "{folds}");
 }

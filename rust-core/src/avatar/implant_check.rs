@@ -13,6 +13,7 @@
 //! | a lid in an eyeball ([`deepest_lid`]) | the deepest a skin vertex goes inside an eyeball where the own shape keeps it out | [`LID_DEPTH_MM`] |
 //! | the retargeting residual | `‖G w̃_j − M B_j‖` of Eq. (4) against the person's motion, floored at [`RESIDUAL_FLOOR_MM`] RMS | [`MAX_RELATIVE_RESIDUAL`] |
 //! | the change at rest ([`rest_spike`]) | a vertex moving much further than the scan asks of the face at any point | [`REST_OVERSHOOT`] × the largest change asked |
+//! | creases at rest ([`rest_folds`]) | a head triangle that taking the face turns past [`REST_FOLD_ANGLE`] | [`FOLDED_SHARE`] of the head's triangles: the avatar keeps its own face |
 //!
 //! A spike at rest makes the avatar unusable and is refused
 //! (`AvatarError::RestSpike` of [`super::personal_avatar`]); the others
@@ -84,6 +85,16 @@ pub const MAX_RELATIVE_RESIDUAL: f64 = 3.0;
 /// times what was asked (the mouth's lining 230 mm, a lip's corner 108 mm,
 /// where the scan asked at most 27–30 mm).
 pub const REST_OVERSHOOT: f64 = 1.5;
+
+/// A head triangle that taking the person's face turns by more than this
+/// at rest (radians, 45°, [`OWN_FOLD_ANGLE`]: the most the avatar's own
+/// shapes may turn a triangle that a personalized shape then folds) is
+/// creased. A face of another shape bends the skin gently: the taken face
+/// of a simulated person turns 15 of the default avatar's 25,000 head
+/// triangles past it (changes up to 8.6 mm); a person on ARKit's own mesh,
+/// whose coarse lips curl inwards, turned 990–1,258 (crumpled lips, a
+/// crease along the mask's outline).
+pub const REST_FOLD_ANGLE: f64 = OWN_FOLD_ANGLE;
 
 /// What the check found wrong with one shape of the person's avatar.
 #[derive(Clone, Debug, PartialEq)]
@@ -221,6 +232,53 @@ impl fmt::Display for RestSpike {
             self.vertex, self.part, self.moved_mm, self.asked_mm
         )
     }
+}
+
+/// Head triangles that taking the person's face would turn past
+/// [`REST_FOLD_ANGLE`] at rest: creases and crumples the scan would put
+/// into the skin. The avatar then keeps its own face
+/// ([`super::personal_avatar`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct RestFolds {
+    /// Triangles folded.
+    pub triangles: usize,
+    /// The limit ([`FOLDED_SHARE`] of the head's triangles).
+    pub limit: usize,
+    /// A corner of the most turned one (avatar vertex).
+    pub vertex: u32,
+}
+
+impl fmt::Display for RestFolds {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "taking the person's face would crease {} triangles of the head at rest (limit {}), the worst at vertex {}: the avatar keeps its own face",
+            self.triangles, self.limit, self.vertex
+        )
+    }
+}
+
+/// The head triangles of `avatar` (found by `found`, before its face was
+/// taken) that the rest change `moved` (one per vertex, avatar units)
+/// turns past [`REST_FOLD_ANGLE`], if more than [`FOLDED_SHARE`] of them
+/// ([`folded_triangles`]' rule with the stock rest as the avatar's own,
+/// which turns nothing, and the rest's own angle).
+pub fn rest_folds(avatar: &Avatar, found: &FaceRegistration, moved: &[DVec3]) -> Option<RestFolds> {
+    let triangles = head_triangles(avatar, found);
+    let rest = avatar.positions();
+    let got: Vec<Vec3> = moved.iter().map(|d| d.as_vec3()).collect();
+    let mut folded: Vec<(f64, [u32; 3])> = triangles
+        .iter()
+        .map(|t| (turn(&rest, &got, *t), *t))
+        .filter(|(angle, _)| *angle > REST_FOLD_ANGLE)
+        .collect();
+    folded.sort_by(|x, y| y.0.total_cmp(&x.0));
+    let limit = (FOLDED_SHARE * triangles.len() as f64).floor() as usize;
+    (folded.len() > limit).then(|| RestFolds {
+        triangles: folded.len(),
+        limit,
+        vertex: folded[0].1[0],
+    })
 }
 
 /// The unique edges of the avatar's face parts (the head's skin) whose

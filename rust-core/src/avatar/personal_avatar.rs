@@ -14,7 +14,7 @@ use super::glb::{
     GlbAvatar, GlbError, MeshLook, NewGlbOptions, NewShapes, TargetEncoding, check_avatar,
     new_avatar_glb, written_back_glb,
 };
-use super::implant_check::{Fault, RestSpike, check_shapes, rest_spike};
+use super::implant_check::{Fault, RestFolds, RestSpike, check_shapes, rest_folds, rest_spike};
 use super::model::{Avatar, AvatarMesh, AvatarPart};
 use super::partial_transfer::{ImplantError, Implanted, implant};
 use super::person_face::{TakeFaceError, TakenFace, take_face};
@@ -140,6 +140,10 @@ pub enum AvatarWarning {
     /// A shape of the person's avatar is past a limit of the check
     /// ([`super::implant_check`]): it is written, and still animates.
     Fault(Fault),
+    /// Taking the person's face would have creased the skin at rest
+    /// ([`super::implant_check::rest_folds`]): the avatar kept its own
+    /// face.
+    RestFolded(RestFolds),
 }
 
 impl fmt::Display for AvatarWarning {
@@ -164,6 +168,7 @@ impl fmt::Display for AvatarWarning {
                 "no teeth found (no piece of a mesh that jawOpen moves rigidly): the mouth's inside follows the retargeted shapes as they are",
             ),
             AvatarWarning::Fault(fault) => fault.fmt(f),
+            AvatarWarning::RestFolded(folds) => folds.fmt(f),
         }
     }
 }
@@ -341,7 +346,15 @@ pub fn personal_avatar(
                     spike,
                 });
             }
-            Some(taken)
+            // A face the skin cannot take without creasing is not taken:
+            // the avatar keeps its own, and the person's motion.
+            match rest_folds(avatar, &registration, &taken.moved) {
+                Some(folds) => {
+                    warnings.push(AvatarWarning::RestFolded(folds));
+                    None
+                }
+                None => Some(taken),
+            }
         }
     };
     let (avatar, found_on) = match &taken_face {

@@ -33,6 +33,7 @@ use super::correspondence::correspondence_map;
 use super::eyeballs::find_eyeballs;
 use super::face_registration::{FaceRegistration, FoundFace, InvalidRegistration};
 use super::features::{HELD, REQUIRED, feature_weights, rig_features};
+use super::jaw_agreement::{MouthNeighbourhood, leave_out_other_lip};
 use super::lips_parting::{STILL, WITH_JAW, lips_parting};
 use super::mask_holes::{boundary_edges, mouth_rim};
 use super::nonrigid::{Landmark, MIN_NORMAL_DOT, SEARCH_RADIUS, register_nonrigid, vertex_normals};
@@ -345,24 +346,36 @@ pub fn find_face(
         .flat_map(|&i| offsets[i]..offsets[i + 1])
         .filter(|&v| !is_eyeball[v])
         .map(|v| (v, positions[v], avatar_normals[v]));
-    let map = correspondence_map(
+    let mut map = correspondence_map(
         candidates,
         &registered.positions,
         mask.triangles(),
         FACE_TOLERANCE_MM / to_mm,
         &face_triangles,
     );
+    let slit = mouth_rim(&registered.positions, &boundary_edges(mask.triangles()));
+    let slit_middle = slit
+        .iter()
+        .map(|&v| registered.positions[v as usize])
+        .sum::<DVec3>()
+        / slit.len().max(1) as f64;
+    if let Some(avatar_jaw) = arkit_displacement(avatar, Blendshape::JawOpen) {
+        let radius = slit
+            .iter()
+            .map(|&v| registered.positions[v as usize].distance(slit_middle))
+            .fold(0.0, f64::max);
+        let mouth = MouthNeighbourhood {
+            centre: slit_middle,
+            radius,
+        };
+        leave_out_other_lip(&mut map, &positions, &avatar_jaw, mask_jaw, mouth);
+    }
     let eyeball_parts: Vec<usize> = (0..avatar.parts().len())
         .filter(|&i| offsets[i] < offsets[i + 1])
         .filter(|&i| (offsets[i]..offsets[i + 1]).all(|v| is_eyeball[v]))
         .collect();
-    let slit = mouth_rim(&registered.positions, &boundary_edges(mask.triangles()));
     let mouth = MouthPlace {
-        centre: slit
-            .iter()
-            .map(|&v| registered.positions[v as usize])
-            .sum::<DVec3>()
-            / slit.len().max(1) as f64,
+        centre: slit_middle,
         forward: (icp.similarity.rotation * DVec3::Z).normalize_or_zero(),
         per_mm: icp.similarity.scale / 1000.0,
     };
@@ -493,7 +506,7 @@ fn uncovered_region(neutral: &[DVec3], kept: &[bool]) -> String {
 
 /// Version of the registration's rules: part of the cache key, so a cached
 /// result from older rules is never taken for a new one.
-pub const REGISTRATION_VERSION: u32 = 7;
+pub const REGISTRATION_VERSION: u32 = 8;
 
 /// The key a registration is cached under: the rules' version, the
 /// avatar's vertex count and a CRC-32 of everything the registration

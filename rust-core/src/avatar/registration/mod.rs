@@ -12,6 +12,7 @@
 //! | §3.3 "correspondence map M" | avatar face vertices → mask triangle + barycentrics | [`correspondence`] |
 //! | §3.3, the mask's own shape | its outline, eye openings and mouth slit | [`mask_holes`] |
 //! | (beyond the paper) each lip takes its own lip's motion at the mouth's slit | which lip a mask triangle at the slit belongs to | [`lip_sides`] |
+//! | (beyond the paper) each lip takes its own lip's motion behind the slit too (ARKit's curled lips) | both rigs' jawOpen agree on a vertex's lip | [`jaw_agreement`] |
 //! | (beyond the paper) the mask's slit held where the avatar's lips part | the parting, by the avatar's own jawOpen | [`lips_parting`] |
 //! | (beyond the paper) what each part is: skin, eyeball, teeth, tongue | by the registration and the avatar's own shapes | [`part_roles`] |
 //! | §3.3, once per avatar topology | the whole search, its report and errors, the cache key | [`mod@find_face`] |
@@ -23,6 +24,7 @@ pub mod eyeballs;
 pub mod face_registration;
 pub mod features;
 pub mod find_face;
+pub mod jaw_agreement;
 pub mod lip_sides;
 pub mod lips_parting;
 pub mod mask_holes;

@@ -16,7 +16,7 @@
 //! | §3.2 (Eq. 2), §3.3 steps 1 and 2 | the cotangent Laplacian (gradient form) and the uniform one, as sparse entries | [`laplacian`] |
 //! | §3.3 step 2, the person's face: the uniform Laplacian's rows | each vertex's one-ring | [`one_ring`] |
 //! | beyond §3.3, the person's face: skin that must not pass through itself | triangle pairs that cut through each other (Möller–Trumbore, binned) | [`self_intersection`] |
-//! | every linear solve (Eq. 4's transfers, both steps of §3.3, the registration) | one sparse Cholesky factorization, symbolic analysis reusable | [`sparse_cholesky`] |
+//! | every linear solve (Eq. 4's transfers, both steps of §3.3, the registration) | one sparse Cholesky factorization; a fixed pattern analysed once and refilled | [`sparse_cholesky`] |
 //! | §3.3, eyeballs found by their shape | algebraic least-squares sphere (Kåsa 1976) | [`sphere_fit`] |
 
 pub mod closest_point;

@@ -7,12 +7,13 @@
 //! matrix as triplets (duplicates are summed) and factors it once; a solve
 //! is then two triangular sweeps per right-hand side. Where the values
 //! change but the sparsity does not (the registration's steps), the
-//! symbolic analysis is done once ([`symbolic`]) and reused
-//! ([`factor_with`]).
+//! pattern is analysed once ([`FixedPattern`]): the order its entries'
+//! values are read in and the symbolic factorization; each new set of
+//! values is then only summed into place and factored numerically.
 
 use faer::Side;
 use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
-use faer::sparse::{SparseColMat, Triplet};
+use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat, Triplet};
 
 /// Why a matrix could not be factored.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -39,26 +40,55 @@ fn matrix(
         .map_err(|e| FactorError::Entries(format!("{e:?}")))
 }
 
-/// The symbolic factorization of the sparsity pattern of the `n × n`
-/// matrix with lower triangle `lower` (its values do not matter).
-pub fn symbolic(
-    n: usize,
-    lower: &[Triplet<usize, usize, f64>],
-) -> Result<SymbolicLlt<usize>, FactorError> {
-    SymbolicLlt::try_new(matrix(n, lower)?.symbolic(), Side::Lower)
-        .map_err(|e| FactorError::Symbolic(format!("{e:?}")))
+/// The lower triangle of an `n × n` symmetric matrix whose entries are
+/// always at the same places, in the same order, analysed once: where
+/// each entry's value goes (duplicates summed) and the symbolic
+/// factorization. [`FixedPattern::factor`] then takes only the values.
+pub struct FixedPattern {
+    structure: SymbolicSparseColMat<usize>,
+    order: Argsort<usize>,
+    symbolic: SymbolicLlt<usize>,
+    entries: usize,
 }
 
-/// `L Lᵀ` of the `n × n` matrix with lower triangle `lower`, reusing the
-/// `symbolic` factorization of its sparsity pattern.
-pub fn factor_with(
-    symbolic: &SymbolicLlt<usize>,
-    n: usize,
-    lower: &[Triplet<usize, usize, f64>],
-) -> Result<Llt<usize, f64>, FactorError> {
-    let a = matrix(n, lower)?;
-    Llt::try_new_with_symbolic(symbolic.clone(), a.as_ref(), Side::Lower)
-        .map_err(|e| FactorError::Numeric(format!("{e:?}")))
+impl FixedPattern {
+    /// Analyses the pattern of the `n × n` matrix whose lower triangle has
+    /// entries at `lower`'s places (their values do not matter).
+    pub fn new(n: usize, lower: &[Triplet<usize, usize, f64>]) -> Result<Self, FactorError> {
+        let places: Vec<Pair<usize, usize>> = lower
+            .iter()
+            .map(|t| Pair {
+                row: t.row,
+                col: t.col,
+            })
+            .collect();
+        let (structure, order) = SymbolicSparseColMat::try_new_from_indices(n, n, &places)
+            .map_err(|e| FactorError::Entries(format!("{e:?}")))?;
+        let symbolic = SymbolicLlt::try_new(structure.as_ref(), Side::Lower)
+            .map_err(|e| FactorError::Symbolic(format!("{e:?}")))?;
+        Ok(FixedPattern {
+            structure,
+            order,
+            symbolic,
+            entries: lower.len(),
+        })
+    }
+
+    /// `L Lᵀ` of the matrix whose entries, at the places and in the order
+    /// the pattern was made with, have the values `values`.
+    pub fn factor(&self, values: &[f64]) -> Result<Llt<usize, f64>, FactorError> {
+        if values.len() != self.entries {
+            return Err(FactorError::Entries(format!(
+                "{} values for a pattern of {} entries",
+                values.len(),
+                self.entries
+            )));
+        }
+        let a = SparseColMat::new_from_argsort(self.structure.clone(), &self.order, values)
+            .map_err(|e| FactorError::Entries(format!("{e:?}")))?;
+        Llt::try_new_with_symbolic(self.symbolic.clone(), a.as_ref(), Side::Lower)
+            .map_err(|e| FactorError::Numeric(format!("{e:?}")))
+    }
 }
 
 /// `L Lᵀ` of the `n × n` matrix with lower triangle `lower`.
@@ -98,10 +128,19 @@ mod tests {
         for i in 0..n {
             assert!((b[(i, 0)] - 1.0).abs() < 1e-12, "{i}: {}", b[(i, 0)]);
         }
-        let again = factor_with(&symbolic(n, &lower).unwrap(), n, &lower).unwrap();
+        // The same pattern, analysed once, with its values doubled: x = ½.
+        let pattern = FixedPattern::new(n, &lower).unwrap();
+        let doubled: Vec<f64> = lower.iter().map(|t| 2.0 * t.val).collect();
+        let again = pattern.factor(&doubled).unwrap();
         let mut c = Mat::<f64>::from_fn(n, 1, |i, _| if i == 0 || i == n - 1 { 2.0 } else { 1.0 });
         again.solve_in_place(&mut c);
-        assert!((c[(2, 0)] - 1.0).abs() < 1e-12);
+        for i in 0..n {
+            assert!((c[(i, 0)] - 0.5).abs() < 1e-12, "{i}: {}", c[(i, 0)]);
+        }
+        assert!(matches!(
+            pattern.factor(&doubled[1..]),
+            Err(FactorError::Entries(_))
+        ));
     }
 
     #[test]

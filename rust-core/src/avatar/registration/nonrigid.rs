@@ -25,9 +25,11 @@
 //! landmark term couples its vertices densely; each step replaces it by
 //! per-vertex pulls towards the feature's remaining offset
 //! (`landmark_pulls`), so the system's pattern is the mask's edges plus
-//! one 4 × 4 block per vertex, the same in every step: it is factored
-//! symbolically once, and each step is one sparse numeric `4n × 4n`
-//! Cholesky.
+//! one 4 × 4 block per vertex, the same in every step: it is analysed
+//! once (where each entry goes, and the symbolic factorization), and each
+//! step only sums its values into place and runs one sparse numeric
+//! `4n × 4n` Cholesky. The closest-point searches of a step are
+//! independent and run over the cores.
 //!
 //! Coordinates are normalized by the placed mask's centre and RMS radius
 //! first, so α, β and γ are unit-free and mean the same on a centimetre
@@ -43,11 +45,11 @@
 //! while the mask is stiff and have faded when the fit gets fine.
 
 use crate::geometry::closest_point::TriangleGrid;
-use crate::geometry::sparse_cholesky;
+use crate::geometry::sparse_cholesky::FixedPattern;
+use crate::personalize::blendshape_fit::in_parallel_ranges;
 use faer::Mat;
 use faer::linalg::solvers::Solve;
 use faer::sparse::Triplet;
-use faer::sparse::linalg::solvers::SymbolicLlt;
 use glam::DVec3;
 
 /// α of the first, stiffest stage.
@@ -227,25 +229,30 @@ fn closest_pairs(
     radius: f64,
 ) -> Vec<Pair> {
     let normals = vertex_normals(x, triangles);
-    let mut pairs: Vec<Pair> = x
-        .iter()
-        .zip(&normals)
-        .map(|(p, normal)| {
-            let reach = SEARCH_RADIUS * radius;
-            match target.closest_facing(centre + *p * radius, *normal, MIN_NORMAL_DOT, reach) {
-                Some(c) => Pair {
-                    point: (c.point - centre) / radius,
-                    distance: c.distance / radius,
-                    weight: 1.0,
-                },
-                None => Pair {
-                    point: *p,
-                    distance: f64::INFINITY,
-                    weight: 0.0,
-                },
-            }
-        })
-        .collect();
+    let pair = |i: usize| {
+        let (p, normal) = (x[i], normals[i]);
+        let reach = SEARCH_RADIUS * radius;
+        match target.closest_facing(centre + p * radius, normal, MIN_NORMAL_DOT, reach) {
+            Some(c) => Pair {
+                point: (c.point - centre) / radius,
+                distance: c.distance / radius,
+                weight: 1.0,
+            },
+            None => Pair {
+                point: p,
+                distance: f64::INFINITY,
+                weight: 0.0,
+            },
+        }
+    };
+    // The searches are independent: one run of vertices per core.
+    let runs = in_parallel_ranges(x.len(), |range| range.map(pair).collect::<Vec<_>>());
+    let mut pairs: Vec<Pair> = match runs.into_iter().collect::<Option<Vec<_>>>() {
+        Some(runs) => runs.into_iter().flatten().collect(),
+        // A thread panicked: search again here, so the panic surfaces on
+        // the caller's thread.
+        None => (0..x.len()).map(pair).collect(),
+    };
     let mut kept: Vec<f64> = pairs
         .iter()
         .filter(|p| p.weight > 0.0 && p.distance.is_finite())
@@ -300,18 +307,18 @@ fn homogeneous(p: DVec3) -> [f64; 4] {
 }
 
 /// The per-step system's fixed sparsity (stiffness edges and every
-/// vertex's diagonal block) and its symbolic Cholesky factorization,
-/// computed once: only the values change from step to step.
+/// vertex's diagonal block), analysed once: only the values change from
+/// step to step.
 struct StepSystem {
-    symbolic: SymbolicLlt<usize>,
+    pattern: FixedPattern,
     edges: Vec<(usize, usize)>,
 }
 
 impl StepSystem {
     fn new(n: usize, edges: Vec<(usize, usize)>) -> Option<StepSystem> {
         let entries = step_entries(n, &edges, 1.0, &vec![[0.0; 10]; n]);
-        let symbolic = sparse_cholesky::symbolic(4 * n, &entries).ok()?;
-        Some(StepSystem { symbolic, edges })
+        let pattern = FixedPattern::new(4 * n, &entries).ok()?;
+        Some(StepSystem { pattern, edges })
     }
 }
 
@@ -427,8 +434,11 @@ fn solve_step(
         let beta = if is_held { held } else { fading };
         pull(i, beta * share, target, &mut rhs);
     }
-    let entries = step_entries(n, &system.edges, alpha, &blocks);
-    let llt = sparse_cholesky::factor_with(&system.symbolic, 4 * n, &entries).ok()?;
+    let values: Vec<f64> = step_entries(n, &system.edges, alpha, &blocks)
+        .iter()
+        .map(|t| t.val)
+        .collect();
+    let llt = system.pattern.factor(&values).ok()?;
     llt.solve_in_place(&mut rhs);
     let out: Vec<DVec3> = local
         .iter()

@@ -36,6 +36,7 @@
 
 use super::similarity::{Similarity, fit_similarity};
 use crate::geometry::closest_point::TriangleGrid;
+use crate::personalize::blendshape_fit::in_parallel_ranges;
 use faer::Mat;
 use faer::linalg::solvers::Solve;
 use glam::{DMat3, DVec3};
@@ -118,17 +119,22 @@ pub fn icp_with_scale(
     for iteration in 1..=MAX_ITERATIONS {
         let moved: Vec<DVec3> = mask.iter().map(|p| current.apply(*p)).collect();
         let reach = SEARCH_RADIUS * radius * current.scale;
-        let pairs: Vec<Pair> = moved
-            .iter()
-            .zip(normals)
-            .map(|(x, normal)| {
-                target
-                    .closest_facing(*x, current.rotation * *normal, MIN_NORMAL_DOT, reach)
-                    .map_or((*x, DVec3::ZERO, f64::INFINITY), |c| {
-                        (c.point, target.triangle_normal(c.triangle), c.distance)
-                    })
-            })
-            .collect();
+        let pair = |i: usize| {
+            let x = moved[i];
+            target
+                .closest_facing(x, current.rotation * normals[i], MIN_NORMAL_DOT, reach)
+                .map_or((x, DVec3::ZERO, f64::INFINITY), |c| {
+                    (c.point, target.triangle_normal(c.triangle), c.distance)
+                })
+        };
+        // The searches are independent: one run of vertices per core (a
+        // panicked run is searched again here, so the panic surfaces).
+        let count = moved.len().min(normals.len());
+        let runs = in_parallel_ranges(count, |r| r.map(pair).collect::<Vec<_>>());
+        let pairs: Vec<Pair> = match runs.into_iter().collect::<Option<Vec<_>>>() {
+            Some(runs) => runs.into_iter().flatten().collect(),
+            None => (0..count).map(pair).collect(),
+        };
         let floor = KEEP_WITHIN * radius * current.scale;
         let distances: Vec<f64> = pairs.iter().map(|p| p.2).collect();
         let weights = trimmed_weights(&distances, floor);

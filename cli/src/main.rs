@@ -141,7 +141,7 @@ enum Command {
         #[arg(long, conflicts_with_all = ["avatar", "retargeted", "retarget_map", "preview"])]
         mask_only: bool,
         /// Also write a contact sheet into this folder (created if missing):
-        /// neutral and ten shapes, the avatar's own beside the written
+        /// neutral and eleven shapes, the avatar's own beside the written
         /// ones, each as the face, the eyes and the mouth (PNG tiles,
         /// contact-sheet.png, its legend, index.html).
         #[arg(long, value_name = "DIR")]

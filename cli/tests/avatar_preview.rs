@@ -55,7 +55,7 @@ const SIZES: [(&str, (u32, u32)); 3] = [
     ("mouth", (240, 160)),
 ];
 
-const ROWS: [&str; 11] = [
+const ROWS: [&str; 12] = [
     "neutral",
     "jawOpen",
     "jawOpen+mouthClose",
@@ -64,6 +64,7 @@ const ROWS: [&str; 11] = [
     "mouthSmileLeft",
     "mouthFunnel",
     "browInnerUp",
+    "browDownLeft",
     "eyeSquintLeft",
     "cheekPuff",
     "eyeLookUpLeft",
@@ -90,7 +91,7 @@ fn the_preview_shows_every_shape_own_and_personalized() {
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
     let summary = &v["preview"];
     assert_eq!(summary["dir"], s(&preview), "{v}");
-    assert_eq!(summary["files"], 11 * 6 + 3, "{v}");
+    assert_eq!(summary["files"], 12 * 6 + 3, "{v}");
 
     for row in ROWS {
         for set in ["own", "personalized"] {
@@ -108,8 +109,8 @@ fn the_preview_shows_every_shape_own_and_personalized() {
             summary["sheet_height"].as_u64().unwrap()
         )
     );
-    // Eleven rows of the tallest tile, six columns of the three views.
-    assert!(sheet.height >= 11 * 264 && sheet.width >= 2 * (216 + 362 + 240));
+    // Twelve rows of the tallest tile, six columns of the three views.
+    assert!(sheet.height >= 12 * 264 && sheet.width >= 2 * (216 + 362 + 240));
 
     let legend = std::fs::read_to_string(preview.join("contact-sheet.txt")).unwrap();
     let page = std::fs::read_to_string(preview.join("index.html")).unwrap();
@@ -117,7 +118,7 @@ fn the_preview_shows_every_shape_own_and_personalized() {
         assert!(legend.contains(&format!(": {row}\n")), "{row}: {legend}");
         assert!(page.contains(&format!("src=\"tiles/{row}-own-front.png\"")));
     }
-    assert!(legend.contains("row 11 column 6:"), "{legend}");
+    assert!(legend.contains("row 12 column 6:"), "{legend}");
     assert!(
         !legend.contains("missing"),
         "the default avatar has every shape"

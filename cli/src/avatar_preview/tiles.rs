@@ -15,7 +15,7 @@ use likeness::Blendshape;
 /// `mouthClose` is made to be used on top of `jawOpen` (it closes the
 /// lips while the jaw stays open; alone, most rigs push the lips through
 /// each other), so it is shown that way.
-pub const POSES: [Row; 10] = [
+pub const POSES: [Row; 11] = [
     Row::Shape(Blendshape::JawOpen),
     Row::Together(Blendshape::JawOpen, Blendshape::MouthClose),
     Row::Shape(Blendshape::EyeBlinkLeft),
@@ -23,6 +23,7 @@ pub const POSES: [Row; 10] = [
     Row::Shape(Blendshape::MouthSmileLeft),
     Row::Shape(Blendshape::MouthFunnel),
     Row::Shape(Blendshape::BrowInnerUp),
+    Row::Shape(Blendshape::BrowDownLeft),
     Row::Shape(Blendshape::EyeSquintLeft),
     Row::Shape(Blendshape::CheekPuff),
     Row::Shape(Blendshape::EyeLookUpLeft),

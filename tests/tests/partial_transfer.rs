@@ -42,7 +42,7 @@ fn the_template_implanted_gives_back_the_avatars_own_shapes() {
         &found,
         &retargeting,
         &rig,
-        mask.topology.triangles(),
+        (mask.topology.triangles(), rig.neutral()),
     )
     .expect("implants");
     let seconds = started.elapsed().as_secs_f64();
@@ -125,7 +125,7 @@ fn the_implant_adds_no_seam_where_the_truth_has_none() {
             &found,
             &retargeting,
             shapes,
-            session.topology.triangles(),
+            (session.topology.triangles(), rig.neutral()),
         )
         .expect("implants");
         for shape in [

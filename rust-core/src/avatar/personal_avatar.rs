@@ -379,7 +379,7 @@ pub fn personal_avatar(
                 found_on,
                 &retargeting,
                 person.personalized,
-                person.mask.triangles(),
+                (person.mask.triangles(), person.rig.neutral()),
             )
             .map_err(|source| AvatarError::Implant {
                 file: file.clone(),

@@ -41,7 +41,7 @@ pub fn implanted_subject(n: u64) -> Subject {
         &found,
         &retargeting,
         &person,
-        session.topology.triangles(),
+        (session.topology.triangles(), rig.neutral()),
     )
     .expect("implants");
     Subject {

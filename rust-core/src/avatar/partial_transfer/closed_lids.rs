@@ -37,10 +37,10 @@
 //!   margin, on which the upper one lands, takes the own blink too, or the
 //!   two would not meet. Then `D_v ← D_v + α_v (b_v − D_v)`.
 
-use super::lid_contacts::{closes, mask_eye_holes};
+use super::lid_contacts::closes;
 use crate::arkit::{Blendshape, Blendshapes};
 use crate::avatar::own_shapes::MaskOnSkin;
-use crate::geometry::Topology;
+use crate::geometry::mesh_boundary::EyeHole;
 use glam::DVec3;
 
 /// From this share of the own blink's largest travel on, the avatar's own
@@ -74,10 +74,11 @@ pub struct ClosedLids {
 }
 
 impl ClosedLids {
-    /// Matches the person's eye holes (`personalized`, mask topology
-    /// `mask_triangles`) but those in `closed_otherwise` (indices into
-    /// [`mask_eye_holes`]) with the avatar's own blinks (`own_shapes`, in
-    /// Apple's order; `skin[v]` whether vertex `v` is in the face's parts),
+    /// Matches the mask's eye `holes`
+    /// ([`super::lid_contacts::mask_eye_holes`]) but those in
+    /// `closed_otherwise` (indices into them), as the person's shapes
+    /// (`personalized`) close them, with the avatar's own blinks
+    /// (`own_shapes`, in Apple's order; `skin[v]` whether vertex `v` is in the face's parts),
     /// seen through `on_skin`; `positions` the avatar at rest, `to_avatar`
     /// avatar units per mask millimetre. Nothing closes on a mask without
     /// eye holes or an avatar without its own blinks.
@@ -86,17 +87,13 @@ impl ClosedLids {
         (positions, skin, to_avatar): (&[DVec3], &[bool], f64),
         on_skin: &MaskOnSkin,
         personalized: &Blendshapes,
-        (mask_triangles, closed_otherwise): (&[[u32; 3]], &[usize]),
+        (holes, closed_otherwise): (&[EyeHole], &[usize]),
     ) -> ClosedLids {
         let mut closed = ClosedLids {
             lids: Vec::new(),
             per_shape: vec![Vec::new(); Blendshape::ALL.len()],
         };
-        let Ok(mask) = Topology::new(personalized.vertex_count(), mask_triangles.to_vec()) else {
-            return closed;
-        };
         let rest = personalized.neutral();
-        let holes = mask_eye_holes(&mask, rest);
         let blinks: Vec<(&Vec<DVec3>, Vec<DVec3>)> =
             [Blendshape::EyeBlinkLeft, Blendshape::EyeBlinkRight]
                 .iter()

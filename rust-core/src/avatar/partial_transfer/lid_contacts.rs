@@ -14,11 +14,16 @@
 //!   mask's eye hole (within the hole's width). Where the lids fold inwards
 //!   from their edges (a margin with thickness runs from the edge to the
 //!   loop), the lids' edges are the vertices nearest the mask's rim
-//!   instead ([`FOLDED_LIDS`]). It is split at its corners,
+//!   instead ([`FOLDED_LIDS`]), unless fewer than half as many as the rim
+//!   has lie on it: then the rim does not follow this avatar's lids (ARKit's
+//!   eye holes are wider than the default avatar's openings), and the loop
+//!   is the lids' edge. It is split at its corners,
 //!   the loop vertices farthest apart along the face's left–right axis (the
 //!   registration's rotation of the mask's `x`), into an upper and a lower
 //!   lid (the chain higher along the rotated `y`).
-//! - **When an eye closes.** On the person's mask, in shape `j`, with
+//! - **When an eye closes.** On the person's mask (its eye holes split
+//!   into lids on the template's neutral, as the personalization split
+//!   them), in shape `j`, with
 //!   `O = max over upper-lid vertices of the distance to the lower lid's
 //!   polyline`: the eye closes when `O_j ≤ f · O_0`, `f` =
 //!   [`CONTACT_FRACTION`], the rule the mask's own transfer uses.
@@ -196,6 +201,13 @@ fn lid_edge(
             (d <= ON_RIM * half_width).then_some((s, v))
         })
         .collect();
+    // Too few vertices on the rim to draw the lids by: the rim does not
+    // follow this avatar's lids (ARKit's eye holes are wider than the
+    // default avatar's openings, and 4 of its vertices lay within reach),
+    // and the opening's own loop is the best edge there is.
+    if on_rim.len() < n / 2 {
+        return lp.to_vec();
+    }
     on_rim.sort_by(|a, b| a.0.total_cmp(&b.0));
     on_rim.into_iter().map(|(_, v)| v).collect()
 }
@@ -239,11 +251,20 @@ fn split_opening(lp: &[u32], positions: &[DVec3], right: DVec3, up: DVec3) -> Op
     })
 }
 
-/// The mask's eye holes on the person's neutral, or none if the mask has
-/// not the four boundary loops of a face mask.
-pub fn mask_eye_holes(mask: &Topology, neutral: &[DVec3]) -> Vec<EyeHole> {
+/// The mask's eye holes (`triangles`), split at their corners on
+/// `neutral`, or none if the mask has not the four boundary loops of a face
+/// mask. Split on the template's neutral, the lids are those the
+/// personalization closed the person's blinks by: a corner is the eye
+/// loop's vertex of smallest or largest x, and at ARKit's outer corner
+/// three vertices lie within a few hundredths of a millimetre of each
+/// other's x, so a person's own neutral can pick another of them, whose
+/// lid then seems to stay 17% open in a blink that closed.
+pub fn mask_eye_holes(triangles: &[[u32; 3]], neutral: &[DVec3]) -> Vec<EyeHole> {
+    let Ok(mask) = Topology::new(neutral.len(), triangles.to_vec()) else {
+        return Vec::new();
+    };
     let neutral: Vec<Vec3> = neutral.iter().map(|p| p.as_vec3()).collect();
-    eye_holes(mask, &neutral).map_or(Vec::new(), |h| h.to_vec())
+    eye_holes(&mask, &neutral).map_or(Vec::new(), |h| h.to_vec())
 }
 
 /// How far open an eye is: the largest distance from an upper-lid vertex to
@@ -414,31 +435,23 @@ pub struct ClosingEyes {
 impl ClosingEyes {
     /// Finds the openings of the avatar (`positions` at rest, its face
     /// parts' `triangles`) and which of the person's shapes
-    /// (`personalized`, mask topology `mask_triangles`) close them. Nothing
-    /// closes on a mask without a face mask's eye holes or an avatar
-    /// without matching openings.
+    /// (`personalized`) close the mask's eye `holes` ([`mask_eye_holes`]).
+    /// Nothing closes on a mask without a face mask's eye holes or an
+    /// avatar without matching openings.
     pub fn new(
         positions: &[DVec3],
         triangles: &[[u32; 3]],
         registration: &FaceRegistration,
         personalized: &Blendshapes,
-        mask_triangles: &[[u32; 3]],
+        holes: &[EyeHole],
     ) -> ClosingEyes {
-        let none = ClosingEyes {
-            per_shape: vec![Vec::new(); Blendshape::ALL.len()],
-            found: Vec::new(),
-        };
-        let Ok(mask) = Topology::new(personalized.vertex_count(), mask_triangles.to_vec()) else {
-            return none;
-        };
         let rest = personalized.neutral();
-        let holes = mask_eye_holes(&mask, rest);
         let rotation = registration.similarity.rotation;
         let openings = eye_openings(
             positions,
             triangles,
             &registration.mask_on_avatar,
-            &holes,
+            holes,
             rotation * DVec3::X,
             rotation * DVec3::Y,
         );

@@ -58,7 +58,7 @@ use closed_lids::ClosedLids;
 use eyelid_repair::{Eyeball, LID_OFFSET_MM, NEAR_MM, repair_eyelids};
 use face_step::{FaceStep, FaceStepError};
 use glam::{DVec3, Vec3};
-use lid_contacts::{ClosingEyes, LidClosingError};
+use lid_contacts::{ClosingEyes, LidClosingError, mask_eye_holes};
 use rigid_parts::make_rigid;
 use stay_put::{FADE_MM, STILL_MM, StillFade};
 
@@ -126,23 +126,26 @@ pub struct Implanted {
 /// topology `mask_triangles`) into `avatar` found by `registration`, with
 /// `retargeting` (Eq. 4 of the same shapes) for what the mask does not
 /// cover (module docs): the steps below, in order, each on what the one
-/// before left.
+/// before left. `template_neutral` is the template's neutral: the mask's
+/// eye holes are split into lids at its corners, as the personalization
+/// split them to close the person's blinks ([`mask_eye_holes`]).
 pub fn implant(
     avatar: &Avatar,
     registration: &FaceRegistration,
     retargeting: &Retargeting,
     personalized: &Blendshapes,
-    mask_triangles: &[[u32; 3]],
+    (mask_triangles, template_neutral): (&[[u32; 3]], &[DVec3]),
 ) -> Result<Implanted, ImplantError> {
     let scene = Scene::new(avatar, registration, retargeting);
     let mapped = mapped_shapes(registration, personalized)?;
     let on_skin = MaskOnSkin::new(registration, &scene.positions, &scene.skin_triangles);
+    let holes = mask_eye_holes(mask_triangles, template_neutral);
     let closing = ClosingEyes::new(
         &scene.positions,
         &scene.skin_triangles,
         registration,
         personalized,
-        mask_triangles,
+        &holes,
     );
     let person = Person {
         shapes: personalized,
@@ -161,7 +164,7 @@ pub fn implant(
         (&scene.positions, &scene.in_face_parts, scene.to_avatar),
         &on_skin,
         personalized,
-        (mask_triangles, closing.found()),
+        (&holes, closing.found()),
     );
     closed_lids.apply(&mut full);
     let still_faded = stay_put_step(&scene, &mapped, &mut full);

@@ -8,6 +8,7 @@ use crate::avatar_preview::PreviewInput;
 use crate::info::read_session;
 use likeness::Session;
 use likeness::avatar::glb::{GlbAvatar, new_avatar_glb, read_avatar, read_avatar_bytes};
+use likeness::avatar::implant_check::rest_folds;
 use likeness::avatar::person_face::take_face;
 use likeness::avatar::personal_avatar::{
     AvatarShapes, AvatarStep, AvatarWarning, PersonInput, PersonalAvatar, RestFace, mask_glb,
@@ -197,6 +198,9 @@ pub fn demo_avatar(
         RestFace::Person,
         &mut |_| true,
     )?;
+    for warning in &made.warnings {
+        eprintln!("warning: {warning}");
+    }
     let (registration, implanted) = (&made.registration, &made.implanted);
     println!(
         "Default avatar: {} vertices in {} meshes; face found on {} of them, registration residual mean {:.3} mm, max {:.3} mm ({:.2} s)",
@@ -225,6 +229,12 @@ pub fn demo_avatar(
     );
     let other_neutral = personalize(other, method)?.shapes;
     let other_face = take_face(&glb.avatar, registration, other_neutral.neutral())?;
+    // The product's own rule: a face that would crease the skin is not
+    // taken, and the picture says so rather than show it.
+    let other_creases = rest_folds(&glb.avatar, registration, &other_face.moved);
+    if let Some(folds) = &other_creases {
+        eprintln!("warning: {other_name}: {folds}");
+    }
     let mouth_parts: Vec<usize> = implanted.as_ref().map_or(Vec::new(), |i| {
         i.rigid_parts
             .iter()
@@ -235,7 +245,13 @@ pub fn demo_avatar(
     let faces = [
         ("stock face", &glb.avatar),
         (name, made.shaped(&glb.avatar)),
-        (other_name, &other_face.avatar),
+        (
+            other_name,
+            match other_creases {
+                None => &other_face.avatar,
+                Some(_) => &glb.avatar,
+            },
+        ),
     ];
     let out = Path::new(DEMO_FACES);
     let (w, h) = crate::avatar_preview::write_faces(
@@ -247,8 +263,23 @@ pub fn demo_avatar(
         out,
     )
     .map_err(|e| format!("{}: {e}", out.display()))?;
+    let kept: Vec<&str> = [
+        (name, made.taken_face.is_none()),
+        (other_name, other_creases.is_some()),
+    ]
+    .iter()
+    .filter(|(_, kept)| *kept)
+    .map(|(n, _)| *n)
+    .collect();
+    let kept = match kept.is_empty() {
+        true => String::new(),
+        false => format!(
+            " (the stock face for {}: taking the scan would crease the skin)",
+            kept.join(" and ")
+        ),
+    };
     println!(
-        "Wrote {} ({w} × {h}): the default avatar's stock face, then {name}'s and {other_name}'s, each from their own neutral scan, from the front and the side.",
+        "Wrote {} ({w} × {h}): the default avatar's stock face, then {name}'s and {other_name}'s, each from their own neutral scan{kept}, from the front and the side.",
         out.display()
     );
     Ok(())

@@ -8,7 +8,6 @@ use crate::avatar_preview::PreviewInput;
 use crate::info::read_session;
 use likeness::Session;
 use likeness::avatar::glb::{GlbAvatar, new_avatar_glb, read_avatar, read_avatar_bytes};
-use likeness::avatar::implant_check::rest_folds;
 use likeness::avatar::person_face::take_face;
 use likeness::avatar::personal_avatar::{
     AvatarShapes, AvatarStep, AvatarWarning, PersonInput, PersonalAvatar, RestFace, mask_glb,
@@ -16,6 +15,7 @@ use likeness::avatar::personal_avatar::{
 };
 use likeness::avatar::registration::cache;
 use likeness::avatar::registration::find_face::cache_key;
+use likeness::avatar::rest_check::rest_folds;
 use likeness::io::atomic_write::write_atomically;
 use likeness::personalize::{Method, personalize};
 use serde::Serialize;

@@ -104,7 +104,7 @@ fn the_default_avatar_takes_the_face_of_five_people_on_arkits_mesh() {
         .unwrap_or_else(|e| panic!("seed {}: {e}", person.seed));
         // Nothing moves far past what the scan asks of the face.
         assert_eq!(
-            likeness::avatar::implant_check::rest_spike(
+            likeness::avatar::rest_check::rest_spike(
                 &glb.avatar,
                 &found,
                 &taken.moved,

@@ -5,10 +5,9 @@
 use glam::{DVec3, Vec3};
 use likeness::Blendshape;
 use likeness::avatar::glb::read::{GlbAvatar, read_avatar_bytes};
-use likeness::avatar::implant_check::{
-    FOLDED_SHARE, Fault, check_shapes, head_triangles, rest_folds, rest_spike,
-};
+use likeness::avatar::implant_check::{FOLDED_SHARE, Fault, check_shapes, head_triangles};
 use likeness::avatar::personal_avatar::{AvatarWarning, PersonalAvatar};
+use likeness::avatar::rest_check::{rest_folds, rest_spike};
 
 fn default_glb() -> GlbAvatar {
     let bytes = likeness_sim::default_avatar::default_avatar_glb().expect("builds");

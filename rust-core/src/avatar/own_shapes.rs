@@ -195,15 +195,7 @@ pub fn skin_points(
     // lie against each other at the slit, and the other lip's skin can be
     // nearer (a coarse avatar's lip triangles reach across the gap).
     let lips = registration.lip_sides();
-    let mut vertex_lips = vec![0u8; positions.len()];
-    for f in &registration.map.face {
-        if let (Some(l), Some(t)) = (
-            vertex_lips.get_mut(f.vertex as usize),
-            registration.map.mask_triangles.get(f.triangle as usize),
-        ) {
-            *l = lips.lips_of(*t);
-        }
-    }
+    let vertex_lips = registration.vertex_lips(&lips, positions.len());
     let other_lip = |t: usize, lip: Option<u8>| {
         let Some(lip) = lip else { return false };
         grid.triangles()[t]

@@ -14,11 +14,12 @@ use super::glb::{
     GlbAvatar, GlbError, MeshLook, NewGlbOptions, NewShapes, TargetEncoding, check_avatar,
     new_avatar_glb, written_back_glb,
 };
-use super::implant_check::{Fault, RestFolds, RestSpike, check_shapes, rest_folds, rest_spike};
+use super::implant_check::{Fault, check_shapes};
 use super::model::{Avatar, AvatarMesh, AvatarPart};
 use super::partial_transfer::{ImplantError, Implanted, implant};
 use super::person_face::{TakeFaceError, TakenFace, take_face};
 use super::registration::{FaceRegistration, RegistrationError, find_face};
+use super::rest_check::{RestFolds, RestSpike, rest_folds, rest_spike};
 use super::retargeting::{NEGLIGIBLE, RetargetError, Retargeting, retarget};
 use super::target_names::ArkitTargets;
 use crate::arkit::{Blendshape, Blendshapes};
@@ -141,7 +142,7 @@ pub enum AvatarWarning {
     /// ([`super::implant_check`]): it is written, and still animates.
     Fault(Fault),
     /// Taking the person's face would have creased the skin at rest
-    /// ([`super::implant_check::rest_folds`]): the avatar kept its own
+    /// ([`super::rest_check::rest_folds`]): the avatar kept its own
     /// face.
     RestFolded(RestFolds),
 }

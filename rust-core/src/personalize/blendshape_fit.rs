@@ -404,6 +404,18 @@ pub(crate) fn in_parallel_ranges<T: Send>(
     })
 }
 
+/// `work(i)` for every `i` of `0..count`, in that order, over the cores
+/// ([`in_parallel_ranges`]). A run whose thread panicked is done again on
+/// the caller's thread, so the panic surfaces there rather than as missing
+/// results.
+pub(crate) fn in_parallel_map<T: Send>(count: usize, work: impl Fn(usize) -> T + Sync) -> Vec<T> {
+    let runs = in_parallel_ranges(count, |range| range.map(&work).collect::<Vec<_>>());
+    match runs.into_iter().collect::<Option<Vec<_>>>() {
+        Some(runs) => runs.into_iter().flatten().collect(),
+        None => (0..count).map(work).collect(),
+    }
+}
+
 /// Splits `items` into one contiguous run per core (at most 8) and runs
 /// `work` on each in its own thread, with the index of the run's first
 /// item; returns the results in the order of the runs, `None` for a run

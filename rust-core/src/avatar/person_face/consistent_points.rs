@@ -19,29 +19,11 @@
 //! a time until no conflict is left; a dropped point asks nothing of the
 //! skin, and the field passes smoothly through the points round it. A
 //! point of one lip whose skin is the other lip's (the map `M` says which
-//! lip each avatar vertex is) is folded across the slit, and dropped
-//! before ([`across_the_slit`]).
+//! lip each avatar vertex is, `FaceRegistration::vertex_lips`) is folded
+//! across the slit, and dropped before ([`across_the_slit`]).
 
-use crate::avatar::registration::FaceRegistration;
-use crate::avatar::registration::lip_sides::LipSides;
 use glam::DVec3;
 use std::collections::HashMap;
-
-/// The lips (bits of `lips`, the registered mask's; 0 off the lips) of
-/// each of the avatar's `n` vertices: those of the mask triangle the map
-/// `M` takes it to.
-pub fn skin_lip_labels(registration: &FaceRegistration, lips: &LipSides, n: usize) -> Vec<u8> {
-    let mut labels = vec![0u8; n];
-    for f in &registration.map.face {
-        if let (Some(l), Some(t)) = (
-            labels.get_mut(f.vertex as usize),
-            registration.map.mask_triangles.get(f.triangle as usize),
-        ) {
-            *l = lips.lips_of(*t);
-        }
-    }
-    labels
-}
 
 /// Whether a mask vertex of one lip only (`mask_lips`) has its point on
 /// skin of the other lip only (`skin_lips`: every corner of the skin's

@@ -46,7 +46,7 @@ use super::partial_transfer::stay_put::STILL_MM;
 use super::registration::FaceRegistration;
 use super::registration::find_face::FACE_TOLERANCE_MM;
 use crate::geometry::closest_point::TriangleGrid;
-use consistent_points::{AskedChange, across_the_slit, consistent_points, skin_lip_labels};
+use consistent_points::{AskedChange, across_the_slit, consistent_points};
 use followers::{EyeFollowed, follow_skin};
 use glam::DVec3;
 use rest_field::{PointChange, TOUCH_MM, keep_touching, rest_field, touching_pairs};
@@ -171,7 +171,7 @@ pub fn take_face(
     // two points a hair apart for changes far apart.
     let on_skin: Vec<usize> = (0..points.len()).filter(|i| points[*i].is_some()).collect();
     let lips = registration.lip_sides();
-    let skin_lips = skin_lip_labels(registration, &lips, n);
+    let skin_lips = registration.vertex_lips(&lips, n);
     // The lip of the skin a point lies on, where every corner of its
     // triangle is of that one lip (0 otherwise).
     let point_lip = |i: usize| {

@@ -166,6 +166,22 @@ impl FaceRegistration {
         LipSides::of_mask(&self.mask_on_avatar, &self.map.mask_triangles)
     }
 
+    /// The lips (bits of `lips`, this registration's [`LipSides`]; 0 off
+    /// the lips) of each of the avatar's `n` vertices: those of the mask
+    /// triangle the map `M` takes it to.
+    pub fn vertex_lips(&self, lips: &LipSides, n: usize) -> Vec<u8> {
+        let mut labels = vec![0u8; n];
+        for f in &self.map.face {
+            if let (Some(l), Some(t)) = (
+                labels.get_mut(f.vertex as usize),
+                self.map.mask_triangles.get(f.triangle as usize),
+            ) {
+                *l = lips.lips_of(*t);
+            }
+        }
+        labels
+    }
+
     /// The parts of role `role`, increasing.
     pub fn parts_with(&self, role: PartRole) -> Vec<usize> {
         (0..self.roles.len())

@@ -46,7 +46,7 @@
 
 use crate::geometry::closest_point::TriangleGrid;
 use crate::geometry::sparse_cholesky::FixedPattern;
-use crate::personalize::blendshape_fit::in_parallel_ranges;
+use crate::personalize::blendshape_fit::in_parallel_map;
 use faer::Mat;
 use faer::linalg::solvers::Solve;
 use faer::sparse::Triplet;
@@ -245,14 +245,8 @@ fn closest_pairs(
             },
         }
     };
-    // The searches are independent: one run of vertices per core.
-    let runs = in_parallel_ranges(x.len(), |range| range.map(pair).collect::<Vec<_>>());
-    let mut pairs: Vec<Pair> = match runs.into_iter().collect::<Option<Vec<_>>>() {
-        Some(runs) => runs.into_iter().flatten().collect(),
-        // A thread panicked: search again here, so the panic surfaces on
-        // the caller's thread.
-        None => (0..x.len()).map(pair).collect(),
-    };
+    // The searches are independent: over the cores.
+    let mut pairs: Vec<Pair> = in_parallel_map(x.len(), pair);
     let mut kept: Vec<f64> = pairs
         .iter()
         .filter(|p| p.weight > 0.0 && p.distance.is_finite())

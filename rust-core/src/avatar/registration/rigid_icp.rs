@@ -36,7 +36,7 @@
 
 use super::similarity::{Similarity, fit_similarity};
 use crate::geometry::closest_point::TriangleGrid;
-use crate::personalize::blendshape_fit::in_parallel_ranges;
+use crate::personalize::blendshape_fit::in_parallel_map;
 use faer::Mat;
 use faer::linalg::solvers::Solve;
 use glam::{DMat3, DVec3};
@@ -127,14 +127,8 @@ pub fn icp_with_scale(
                     (c.point, target.triangle_normal(c.triangle), c.distance)
                 })
         };
-        // The searches are independent: one run of vertices per core (a
-        // panicked run is searched again here, so the panic surfaces).
-        let count = moved.len().min(normals.len());
-        let runs = in_parallel_ranges(count, |r| r.map(pair).collect::<Vec<_>>());
-        let pairs: Vec<Pair> = match runs.into_iter().collect::<Option<Vec<_>>>() {
-            Some(runs) => runs.into_iter().flatten().collect(),
-            None => (0..count).map(pair).collect(),
-        };
+        // The searches are independent: over the cores.
+        let pairs: Vec<Pair> = in_parallel_map(moved.len().min(normals.len()), pair);
         let floor = KEEP_WITHIN * radius * current.scale;
         let distances: Vec<f64> = pairs.iter().map(|p| p.2).collect();
         let weights = trimmed_weights(&distances, floor);

@@ -5,6 +5,7 @@
 
 mod avatar;
 mod avatar_preview;
+mod demo_avatar;
 mod evaluate;
 mod info;
 mod interchange;

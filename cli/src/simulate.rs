@@ -137,7 +137,7 @@ pub fn demo(seed: Option<u64>, face: &FaceArgs) -> CliResult {
     let other_seed = seed.map_or(2, |s| s.wrapping_add(1));
     let other = simulate_with_bar(other_seed, options);
     let name = format!("subject {}", seed.unwrap_or(1));
-    crate::avatar::demo_avatar(
+    crate::demo_avatar::demo_avatar(
         &session,
         &name,
         &other,

@@ -21,7 +21,9 @@
 //!    eye openings (corners at their extremes in x, the lid rows between),
 //!    the mouth's slit (corners and the two lip rows). The rims' `(u, v)`
 //!    are held on their own side of the eye and mouth lines, so a lid or a
-//!    lip never takes the other's motion.
+//!    lip never takes the other's motion. Near the mouth, ARKit's own
+//!    `jawOpen` says which lip each vertex is on, and holds the lips' curl
+//!    behind the slit on its own side too.
 //! 3. **The template** is ARKit's own 52 shapes (`tongueOut`, which does
 //!    not move the mesh and has no file, is the neutral).
 //!
@@ -32,6 +34,7 @@ use crate::face_model::{FaceModel, SparseField};
 use crate::shape_spec::{GENERIC_JAW, JawJoint, generic_specs};
 use crate::template::generic_template;
 use glam::{DMat3, DVec3, Vec3};
+use likeness::avatar::registration::lips_parting::{STILL, WITH_JAW};
 use likeness::avatar::registration::{FaceRegistration, find_face};
 use likeness::avatar::{Avatar, AvatarMesh, AvatarPart};
 use likeness::geometry::closest_point::TriangleGrid;
@@ -166,6 +169,7 @@ pub fn read_arkit_face(dir: &Path) -> Result<ArkitFace, ArkitFaceError> {
     let (found, _) = landmarks(&topology, &positions, uv.clone()).map_err(not_arkit)?;
     let uv = features_aligned(uv, &found);
     let (landmarks, uv) = landmarks(&topology, &positions, uv).map_err(not_arkit)?;
+    let uv = lips_held_by_own_jaw(uv, &template, &positions, &landmarks);
     let mask = FaceMask {
         topology,
         uv,
@@ -304,6 +308,49 @@ fn features_aligned(uv: Vec<[f64; 2]>, lm: &Landmarks) -> Vec<[f64; 2]> {
             q
         })
         .collect()
+}
+
+/// `uv` with every vertex near the mouth held on the side of the mouth line
+/// that ARKit's own `jawOpen` puts it on (step 2 of the module docs, beyond
+/// the rims). ARKit's lips curl inwards: a ring behind the slit, the upper
+/// lip's lining lies over the lower lip's, and its closest point on the
+/// registered mask can be on the lower lip. Carried as it is, such a vertex
+/// moved 23 mm with the jaw in a simulated `jawOpen` where ARKit's template
+/// moves it 2.5 mm. Within the slit's half-width of its middle, a vertex
+/// that ARKit's `jawOpen` leaves with the skull (at most [`STILL`] of its
+/// largest motion there) is held above the line, one it moves with the jaw
+/// (at least [`WITH_JAW`]) below it, as the rims are; the corners and the
+/// cheeks between the two shares keep their carried place.
+fn lips_held_by_own_jaw(
+    mut uv: Vec<[f64; 2]>,
+    template: &Template,
+    p: &[DVec3],
+    lm: &Landmarks,
+) -> Vec<[f64; 2]> {
+    let [a, b] = lm.lip_corners.map(|v| p[v as usize]);
+    let (centre, radius) = ((a + b) / 2.0, a.distance(b) / 2.0);
+    let jaw = template.delta(Blendshape::JawOpen);
+    let near: Vec<usize> = (0..p.len())
+        .filter(|&v| p[v].distance(centre) <= radius)
+        .collect();
+    let largest = near
+        .iter()
+        .map(|&v| f64::from(jaw[v].length()))
+        .fold(0.0, f64::max);
+    if largest <= 0.0 {
+        return uv;
+    }
+    for v in near {
+        let share = f64::from(jaw[v].length()) / largest;
+        let u = uv[v][0];
+        let half_gap = 0.5 * lip_row_offset(u);
+        if share <= STILL {
+            uv[v][1] = uv[v][1].max(MOUTH_CENTRE[1] + half_gap + RIM_SIDE_MARGIN);
+        } else if share >= WITH_JAW {
+            uv[v][1] = uv[v][1].min(MOUTH_CENTRE[1] - half_gap - RIM_SIDE_MARGIN);
+        }
+    }
+    uv
 }
 
 /// A loop split at its two extremes in x into `(low corner, high corner,

@@ -148,7 +148,8 @@ fn the_default_avatar_takes_the_face_of_five_people_on_arkits_mesh() {
 
 /// Point 4 on every avatar: two people on ARKit's mesh each make an avatar
 /// (none refused), whatever the check finds past a limit is in the
-/// warnings, which name the shape, and no blink leaves an eye open.
+/// warnings, which name the shape, no blink leaves an eye open, and on the
+/// avatars we generate no shape passes a limit at all.
 #[test]
 fn people_on_arkits_mesh_are_checked_on_every_avatar() {
     let Some(people) = arkit_people() else { return };
@@ -179,6 +180,21 @@ fn people_on_arkits_mesh_are_checked_on_every_avatar() {
                     "{name}: a fault that names no shape: {f}"
                 );
             }
+            // On every avatar we generate, no shape passes a limit. The
+            // brow once slid over the lid in browDownLeft (53–140 triangles
+            // folded, limit 50): the map squeezed ARKit's taller brow-to-lid
+            // skin into the avatar's, and the mapped gradient folded what
+            // the person's shape did not (`partial_transfer::face_step`);
+            // and Eq. (4) drove the avatar's own browDownLeft at 2.7
+            // (`retargeting`, weights now in [0, 1]). ICT-FaceKit, made by
+            // others, still has faults at its mouth (the notes).
+            if !name.contains("ict-facekit") {
+                assert!(
+                    faults.is_empty(),
+                    "{name}, seed {}: {faults:?}",
+                    person.seed
+                );
+            }
             // Both eyes close in the blinks as the person's do: the left
             // one once stayed 12–16% open on the stock faces (ICT-FaceKit:
             // 38%; `lid_contacts::mask_eye_holes`).
@@ -193,7 +209,9 @@ fn people_on_arkits_mesh_are_checked_on_every_avatar() {
             // Each lip takes its own lip's motion: ARKit's curled lips once
             // gave 18–27 upper-lip vertices the lower lip's jawOpen (a
             // curtain over the open mouth); the rigs' own jawOpen now tell
-            // the lips apart (`registration::jaw_agreement`), leaving 0–5.
+            // the lips apart (`registration::jaw_agreement`), and the
+            // simulator keeps ARKit's curl on its own lip
+            // (`likeness_sim::arkit_face`), leaving 0 (ICT-FaceKit 0–3).
             let f = likeness_tests::avatar_quality::figures(
                 made.shaped(&glb.avatar),
                 made.shaped_registration(),
@@ -210,9 +228,10 @@ fn people_on_arkits_mesh_are_checked_on_every_avatar() {
 }
 
 /// Most face vertices that jawOpen may take to the other lip on any avatar
-/// ([`likeness_tests::avatar_quality::lip_swaps`]; measured 0–5 on every
-/// avatar with five people on ARKit's mesh, and 0–3 with the simulator's).
-const MAX_LIP_SWAPS: usize = 8;
+/// ([`likeness_tests::avatar_quality::lip_swaps`]; measured 0 on every
+/// generated avatar and 0–3 on ICT-FaceKit with five people on ARKit's
+/// mesh). A single one hangs over the open mouth as a strand.
+const MAX_LIP_SWAPS: usize = 3;
 
 /// A face the avatar's skin cannot take without creasing is not taken: a
 /// person on ARKit's mesh (whose coarse lips curl inwards) would crumple the

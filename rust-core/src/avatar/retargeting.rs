@@ -7,14 +7,14 @@
 //!
 //! ```text
 //! E_j(w̃) = ‖Σ_i w̃_i B̃_i − M B_j‖² + Σ_i (μ + U_i) (w̃_i − e_ji)²,
-//! (GᵀG + μI + U) w̃_j = Gᵀ M B_j + (μI + U) e_j,
+//! w̃_j = argmin E_j over 0 ≤ w̃_i ≤ 1 (module docs: one may pass 1),
 //! ```
 //!
 //! with `G` (3F × k) the displacements of the avatar's `k` blendshapes (its
 //! morph targets grouped by name across meshes, [`avatar_blendshapes`]) at
 //! the `F` face vertices and `U` the diagonal of the `U_i` (below). All 52
-//! right-hand sides share one `k × k`
-//! Cholesky factorization. `M B_j` is the mask's displacement carried into
+//! shapes share the `k × k` matrix `GᵀG + μI + U`; without the bounds each
+//! would solve `(GᵀG + μI + U) w̃_j = Gᵀ M B_j + (μI + U) e_j`. `M B_j` is the mask's displacement carried into
 //! the avatar's frame by the registration's similarity (`s R δ`, then `M`).
 //!
 //! **Like with like.** `M B_j` is a field at the mask's resolution: linear
@@ -57,19 +57,38 @@
 //! from `e_j` must explain more than `μ₀` of an average target's energy on
 //! the face to be made.
 //!
+//! **Weights in `[0, 1]`.** As the paper notes (§4), the unconstrained
+//! optimum leaves `[0, 1]`, and by far: for people on ARKit's own mesh,
+//! `browDownLeft` on the default avatar came out as its own `browDownLeft`
+//! at 2.7, `eyeLookUpLeft` at 2.5, `eyeBlinkLeft` at 1.3 and both brow
+//! raises at −1.1 to −1.2. A rig is made for weights in `[0, 1]` (Lewis et
+//! al. 2014, *Practice and Theory of Blendshape Facial Models*, §5.2, the
+//! usual constraint of retargeting): the avatar's own `browDownLeft` at
+//! 2.7 alone folds 81 of its triangles, where at 1 it folds none. Here the
+//! face itself takes the person's motion from step 1 of the transfer
+//! ([`crate::avatar::partial_transfer`]); `A_j` gives the avatar's own detail
+//! and moves what the mask does not see, so it is kept to what the rig was
+//! made for, and each `w̃_j` is the least of `E_j` over the box
+//! ([`crate::geometry::box_quadratic`]). One weight may pass 1: the
+//! avatar's own target of shape `j`, where that target turns the jaw (it
+//! moves the teeth or the tongue). It stands for a rotation a person can
+//! take further than the artist posed it (a person who opens wider than
+//! the avatar's jawOpen, as the chin on the mask shows), and past 1 it
+//! keeps turning the same way; capped at 1, the teeth and the neck stayed
+//! behind the person's chin, and a committed subject's jawOpen bent the
+//! neck 25.1° where the rig alone bends it 16.5°.
+//!
 //! `A_j = Σ_i w̃_ji B̃_i` over the whole avatar (eyes, teeth, neck included)
 //! is the automatic retargeting; the weights themselves are a product on
-//! their own (a map from ARKit's 52 weights to the avatar's targets). As
-//! the paper notes, the optimal weights leave [0, 1]; [`Retargeting`]
-//! reports how far.
+//! their own (a map from ARKit's 52 weights to the avatar's targets).
 
 use super::model::Avatar;
 use super::own_shapes::{MaskOnSkin, face_part_triangles};
 use super::registration::FaceRegistration;
 use super::target_names::{TargetName, parse_target_name};
 use crate::arkit::{BLENDSHAPE_COUNT, Blendshape, Blendshapes};
+use crate::geometry::box_quadratic::{Bounds, minimize};
 use faer::Mat;
-use faer::linalg::solvers::Solve;
 use glam::{DVec3, Vec3};
 use serde::{Deserialize, Serialize};
 
@@ -196,15 +215,6 @@ impl Retargeting {
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), w| {
                 (lo.min(*w), hi.max(*w))
             })
-    }
-
-    /// How many weights lie outside [0, 1] by more than 0.01.
-    pub fn outside_unit_range(&self) -> usize {
-        self.weights
-            .iter()
-            .flatten()
-            .filter(|w| **w < -0.01 || **w > 1.01)
-            .count()
     }
 
     /// `A_j`: the displacement of every avatar vertex (as
@@ -335,6 +345,28 @@ fn unseen_vertices(
     hidden
 }
 
+/// Whether each avatar vertex belongs to a piece the jaw turns: the teeth
+/// and the tongue (by the parts' roles). Not the eyeballs: the mask sees
+/// the jaw's motion on the chin, but never an eyeball's, so a weight past
+/// 1 on an eyeLook target would turn the eyeball further than anything
+/// measured (and, squinting, into the lid: 0.29 mm on the default
+/// avatar).
+fn jaw_piece_vertices(avatar: &Avatar, registration: &FaceRegistration) -> Vec<bool> {
+    use super::registration::part_roles::PartRole;
+    let offsets = avatar.vertex_offsets();
+    let mut jaw = vec![false; avatar.vertex_count()];
+    for (part, role) in registration.roles.iter().enumerate() {
+        let turned = matches!(
+            role,
+            PartRole::UpperTeeth | PartRole::LowerTeeth | PartRole::Teeth | PartRole::Tongue
+        );
+        if turned && part + 1 < offsets.len() {
+            jaw[offsets[part]..offsets[part + 1]].fill(true);
+        }
+    }
+    jaw
+}
+
 /// Solves Eq. (4) for all 52 ARKit shapes of `shapes` (module docs).
 pub fn retarget(
     avatar: &Avatar,
@@ -354,7 +386,9 @@ pub fn retarget(
         &face_part_triangles(avatar, registration),
     );
     let hidden = unseen_vertices(avatar, registration, &positions);
+    let jaw = jaw_piece_vertices(avatar, registration);
     let mut unseen = vec![0.0; targets.len()];
+    let mut turns_the_jaw = vec![false; targets.len()];
     let mut g = Mat::<f64>::zeros(rows, targets.len());
     for (i, blendshape) in targets.iter().enumerate() {
         let d: Vec<DVec3> = avatar
@@ -362,6 +396,7 @@ pub fn retarget(
             .iter()
             .map(|d| d.as_dvec3())
             .collect();
+        turns_the_jaw[i] = d.iter().zip(&jaw).any(|(d, r)| *r && *d != DVec3::ZERO);
         unseen[i] = d
             .iter()
             .zip(&hidden)
@@ -404,17 +439,31 @@ pub fn retarget(
     }
     // The prior: each ARKit shape is the avatar's own target of that name
     // (both halves of a split one).
+    let mut own_of: Vec<Option<usize>> = vec![None; k];
     for (i, blendshape) in targets.iter().enumerate() {
         let shape = match parse_target_name(&blendshape.name) {
             TargetName::Arkit(shape) | TargetName::Half(shape, _) => shape,
             TargetName::Other => continue,
         };
         gt_b[(i, shape.index())] += mu + unseen[i];
+        own_of[i] = Some(shape.index());
     }
-    let llt = system
-        .llt(faer::Side::Lower)
-        .map_err(|_| RetargetError::Singular)?;
-    let w = llt.solve(&gt_b);
+    // Each shape's weights, the least of E_j over the box (module docs).
+    let mut w = Mat::<f64>::zeros(k, BLENDSHAPE_COUNT);
+    for j in 0..BLENDSHAPE_COUNT {
+        let hi: Vec<f64> = (0..k)
+            .map(|i| match own_of[i] == Some(j) && turns_the_jaw[i] {
+                true => f64::INFINITY,
+                false => 1.0,
+            })
+            .collect();
+        let bounds = Bounds::new(vec![0.0; k], hi).map_err(|_| RetargetError::Singular)?;
+        let c: Vec<f64> = (0..k).map(|i| gt_b[(i, j)]).collect();
+        let least = minimize(&system, &c, &bounds).map_err(|_| RetargetError::Singular)?;
+        for (i, x) in least.w.into_iter().enumerate() {
+            w[(i, j)] = x;
+        }
+    }
     let fitted = &g * &w;
     let floor = face.len() as f64
         * (super::implant_check::RESIDUAL_FLOOR_MM * 1e-3 * registration.similarity.scale).powi(2);

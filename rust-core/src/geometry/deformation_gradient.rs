@@ -162,6 +162,29 @@ impl RestTriangle {
     }
 }
 
+/// How much of the triangle `x` still faces its own way under the
+/// displacement gradient `g` (the triangle moved to `xᵢ + g xᵢ`): the
+/// deformed triangle's area vector projected on the rest normal, over the
+/// rest area,
+///
+/// ```text
+/// a(g) = n̂ · ((I + g) e₁ × (I + g) e₂) / ‖e₁ × e₂‖.
+/// ```
+///
+/// 1 for a rigid motion within the plane, between 0 and 1 for a
+/// compression or a turn, negative once the triangle has turned past 90°
+/// or been folded over; 0 for a degenerate rest triangle.
+pub fn facing_area_ratio(x: [DVec3; 3], g: DMat3) -> f64 {
+    let c = area_vector(x);
+    let double_area = c.length();
+    if is_degenerate(x) {
+        return 0.0;
+    }
+    let q = DMat3::IDENTITY + g;
+    let moved = (q * (x[1] - x[0])).cross(q * (x[2] - x[0]));
+    moved.dot(c) / (double_area * double_area)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -279,5 +302,26 @@ mod tests {
             q - DMat3::IDENTITY,
             1e-14
         ));
+    }
+
+    #[test]
+    fn the_facing_area_ratio_says_compressed_turned_and_folded() {
+        let g = |m: DMat3| m - DMat3::IDENTITY;
+        assert!((facing_area_ratio(TRI, DMat3::ZERO) - 1.0).abs() < 1e-12);
+        // A rotation about the normal keeps the triangle facing its way.
+        let c = (TRI[1] - TRI[0]).cross(TRI[2] - TRI[0]).normalize();
+        let spin = DMat3::from_axis_angle(c, 1.0);
+        assert!((facing_area_ratio(TRI, g(spin)) - 1.0).abs() < 1e-12);
+        // Halved in one in-plane direction: half the area.
+        let e = (TRI[1] - TRI[0]).normalize();
+        let squash = DMat3::IDENTITY - 0.5 * DMat3::from_cols(e * e.x, e * e.y, e * e.z);
+        assert!((facing_area_ratio(TRI, g(squash)) - 0.5).abs() < 1e-12);
+        // Turned past 90° about an in-plane axis, or mirrored in the plane:
+        // negative.
+        let turn = DMat3::from_axis_angle(e, 2.0);
+        assert!(facing_area_ratio(TRI, g(turn)) < 0.0);
+        let mirror = DMat3::IDENTITY - 2.0 * DMat3::from_cols(e * e.x, e * e.y, e * e.z);
+        assert!((facing_area_ratio(TRI, g(mirror)) + 1.0).abs() < 1e-12);
+        assert_eq!(facing_area_ratio([TRI[0]; 3], DMat3::ZERO), 0.0);
     }
 }

@@ -17,8 +17,10 @@
 //! | §3.3 step 2, the person's face: the uniform Laplacian's rows | each vertex's one-ring | [`one_ring`] |
 //! | beyond §3.3, the person's face: skin that must not pass through itself | triangle pairs that cut through each other (Möller–Trumbore, binned) | [`self_intersection`] |
 //! | every linear solve (Eq. 4's transfers, both steps of §3.3, the registration) | one sparse Cholesky factorization; a fixed pattern analysed once and refilled | [`sparse_cholesky`] |
+//! | §3.3, Eq. 4 with the weights in `[0, 1]` (beyond the paper) | a convex quadratic's least over a box (primal–dual active set) | [`box_quadratic`] |
 //! | §3.3, eyeballs found by their shape | algebraic least-squares sphere (Kåsa 1976) | [`sphere_fit`] |
 
+pub mod box_quadratic;
 pub mod closest_point;
 pub mod connected_components;
 pub mod deformation_gradient;

@@ -18,7 +18,19 @@
 //! mapped displacement `M B_j` itself, on `t`'s rest shape, is taken:
 //! `G_t = (V'_t − V_t) V_t⁻¹` with `V'_t` the edge matrix of `t` moved by
 //! `M B_j` (by the mouth corners, where the lips move apart, a single mask
-//! triangle's gradient would pull the lips' ends 5 mm off)
+//! triangle's gradient would pull the lips' ends 5 mm off). That gradient
+//! is the mask's times the map's own: where `M` squeezes a stretch of the
+//! mask into less of the avatar (ARKit's brow-to-lid fold is about twice
+//! as tall as the default avatar's), a compression the mask takes in its
+//! stride folds the avatar's skin over (the brow slid over the lid in
+//! `browDownLeft`, 54 triangles turned past 90°). So where the mapped
+//! gradient turns a straddling `t` past facing its way
+//! ([`facing_area_ratio`] at most 0), `t`'s corners' points on the mask
+//! are taken as a triangle of their own (the chord, across the mask's
+//! edges): if the person's shape keeps the chord facing, the map is what
+//! folds `t`, and `t` takes the chord's gradient, as a triangle within one
+//! mask triangle takes that triangle's. Where the chord folds too, the
+//! person's skin does, and the mapped gradient stands
 //!
 //! (a gradient is scale-free: the registration's scale cancels). The face
 //! patch's displacement `D` then minimizes
@@ -39,7 +51,9 @@
 
 use super::lid_contacts::{LidClosingError, LidContact, least_energy_closing};
 use crate::avatar::registration::CorrespondenceMap;
-use crate::geometry::deformation_gradient::{RestTriangle, hat_gradients, triangle_area};
+use crate::geometry::deformation_gradient::{
+    RestTriangle, facing_area_ratio, hat_gradients, triangle_area,
+};
 use crate::geometry::laplacian::cotangent_lower;
 use crate::geometry::sparse_cholesky::{self, FactorError};
 use faer::Mat;
@@ -82,6 +96,9 @@ pub struct FaceStep {
     /// The mask triangle each patch triangle takes its gradient from, or
     /// `None` where its corners map into different mask triangles.
     sources: Vec<Option<u32>>,
+    /// Each patch vertex's point on the mask: its triangle and barycentric
+    /// coordinates (the map's).
+    points: Vec<(u32, [f64; 3])>,
     /// Each patch triangle's rest corners and rest shape (for the
     /// straddling ones).
     corners: Vec<[DVec3; 3]>,
@@ -170,6 +187,11 @@ impl FaceStep {
             hats,
             areas,
             sources,
+            points: map
+                .face
+                .iter()
+                .map(|f| (f.triangle, f.barycentric))
+                .collect(),
             corners,
             rests,
             anchor,
@@ -235,12 +257,30 @@ impl FaceStep {
             for (p, t) in self.triangles.iter().enumerate() {
                 let g = match (self.sources[p], &self.rests[p], anchor) {
                     (Some(s), _, _) => gradients.get(s as usize).copied().unwrap_or(DMat3::ZERO),
-                    (None, Some(rest), Some(m)) => {
+                    (None, Some(at_rest), Some(m)) => {
                         let moved = |k: usize| {
                             self.corners[p][k]
                                 + m.get(t[k] as usize).copied().unwrap_or(DVec3::ZERO)
                         };
-                        rest.displacement_gradient([moved(0), moved(1), moved(2)])
+                        let mapped = at_rest.displacement_gradient([moved(0), moved(1), moved(2)]);
+                        // The corner's point on the mask, at rest or moved.
+                        let on_mask = |k: usize, moved: bool| {
+                            let (s, b) = *self.points.get(t[k] as usize)?;
+                            let m = mask_triangles.get(s as usize)?;
+                            let corner = |i: usize| {
+                                let v = m[i] as usize;
+                                if moved { rest[v] + delta[v] } else { rest[v] }
+                            };
+                            Some((0..3).map(|i| corner(i) * b[i]).sum::<DVec3>())
+                        };
+                        let chord = [0, 1, 2].map(|k| on_mask(k, false));
+                        let chord_moved = [0, 1, 2].map(|k| on_mask(k, true));
+                        match (chord, chord_moved) {
+                            ([Some(a), Some(b), Some(c)], [Some(d), Some(e), Some(f)]) => {
+                                unfolded(self.corners[p], mapped, ([a, b, c], [d, e, f]), rotation)
+                            }
+                            _ => mapped,
+                        }
                     }
                     _ => DMat3::ZERO,
                 };
@@ -306,5 +346,91 @@ impl FaceStep {
             }
         }
         Ok(())
+    }
+}
+
+/// A straddling triangle's gradient (module docs): `mapped`, the gradient
+/// of `M B_j` on the avatar triangle `x`, unless it turns `x` past facing
+/// its way ([`facing_area_ratio`] at most 0) where the chord triangle does
+/// not (`chord`, the corners' points on the mask at rest, and the same
+/// points moved by the mask's shape): then the map, not the person, folds
+/// it, and `x` takes the chord's gradient, turned into the avatar's frame
+/// by `rotation`, as a triangle within one mask triangle does.
+fn unfolded(
+    x: [DVec3; 3],
+    mapped: DMat3,
+    (chord, moved): ([DVec3; 3], [DVec3; 3]),
+    rotation: DMat3,
+) -> DMat3 {
+    if facing_area_ratio(x, mapped) > 0.0 {
+        return mapped;
+    }
+    match RestTriangle::new(chord) {
+        Some(r) => {
+            let own = r.displacement_gradient(moved);
+            if facing_area_ratio(chord, own) > 0.0 {
+                rotation * own * rotation.transpose()
+            } else {
+                mapped
+            }
+        }
+        None => mapped,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A triangle in the xy-plane; `squash(f)` scales its y by `f` (a
+    /// displacement gradient), negative `f` folding it over.
+    const X: [DVec3; 3] = [
+        DVec3::new(0.0, 0.0, 0.0),
+        DVec3::new(1.0, 0.0, 0.0),
+        DVec3::new(0.0, 1.0, 0.0),
+    ];
+
+    fn squash(f: f64) -> DMat3 {
+        DMat3::from_diagonal(DVec3::new(0.0, f - 1.0, 0.0))
+    }
+
+    fn moved(x: [DVec3; 3], g: DMat3) -> [DVec3; 3] {
+        x.map(|p| p + g * p)
+    }
+
+    #[test]
+    fn a_map_that_folds_what_the_mask_does_not_gives_way_to_the_mask() {
+        // The map squeezes a mask triangle 2.3 times as tall into the
+        // avatar's: the mask's halving (0.55) becomes a fold (1 − 2.3 ×
+        // 0.45 < 0) in the mapped gradient.
+        let chord = X.map(|p| DVec3::new(p.x, 2.3 * p.y, 0.0));
+        let halved = squash(0.55);
+        let folding = squash(1.0 - 2.3 * 0.45);
+        let own = RestTriangle::new(chord)
+            .expect("a triangle")
+            .displacement_gradient(moved(chord, halved));
+        assert!((own.y_axis.y + 0.45).abs() < 1e-12);
+        let got = unfolded(X, folding, (chord, moved(chord, halved)), DMat3::IDENTITY);
+        assert!((got - own).abs_diff_eq(DMat3::ZERO, 1e-12), "{got:?}");
+        // Turned into the avatar's frame.
+        let r = DMat3::from_rotation_z(0.3);
+        let got = unfolded(X, folding, (chord, moved(chord, halved)), r);
+        assert!((got - r * own * r.transpose()).abs_diff_eq(DMat3::ZERO, 1e-12));
+        // A gradient that keeps the triangle facing is the map's to give
+        // (the lips parting at the corners are such gradients).
+        let opening = squash(3.0);
+        assert_eq!(
+            unfolded(X, opening, (chord, moved(chord, halved)), r),
+            opening
+        );
+        // Where the mask folds it too, the person does: the map's stands.
+        let folded = squash(-0.2);
+        assert_eq!(
+            unfolded(X, folding, (chord, moved(chord, folded)), r),
+            folding
+        );
+        // A chord that is no triangle (points on one line) says nothing.
+        let line = [X[0], X[1], 2.0 * X[1]];
+        assert_eq!(unfolded(X, folding, (line, line), r), folding);
     }
 }

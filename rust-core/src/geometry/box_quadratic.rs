@@ -284,7 +284,7 @@ fn gradient(h: &Mat<f64>, c: &[f64], w: &[f64]) -> Vec<f64> {
 }
 
 /// `½ wᵀ H w − cᵀ w`.
-pub fn objective(h: &Mat<f64>, c: &[f64], w: &[f64]) -> f64 {
+fn objective(h: &Mat<f64>, c: &[f64], w: &[f64]) -> f64 {
     let g = gradient(h, c, w);
     // ½ wᵀHw − cᵀw = ½ wᵀ(Hw − c) − ½ cᵀw.
     (0..c.len())
@@ -293,7 +293,7 @@ pub fn objective(h: &Mat<f64>, c: &[f64], w: &[f64]) -> f64 {
 }
 
 /// The largest `|w_i − clamp(w_i − g_i)|`: zero exactly at the minimum.
-pub fn projected_gradient(w: &[f64], g: &[f64], bounds: &Bounds) -> f64 {
+fn projected_gradient(w: &[f64], g: &[f64], bounds: &Bounds) -> f64 {
     (0..w.len())
         .map(|i| (w[i] - bounds.clamp(i, w[i] - g[i])).abs())
         .fold(0.0, f64::max)

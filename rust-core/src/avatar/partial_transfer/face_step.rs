@@ -263,23 +263,33 @@ impl FaceStep {
                                 + m.get(t[k] as usize).copied().unwrap_or(DVec3::ZERO)
                         };
                         let mapped = at_rest.displacement_gradient([moved(0), moved(1), moved(2)]);
-                        // The corner's point on the mask, at rest or moved.
-                        let on_mask = |k: usize, moved: bool| {
-                            let (s, b) = *self.points.get(t[k] as usize)?;
-                            let m = mask_triangles.get(s as usize)?;
-                            let corner = |i: usize| {
-                                let v = m[i] as usize;
-                                if moved { rest[v] + delta[v] } else { rest[v] }
+                        // Only a folding mapped gradient needs the chord.
+                        if facing_area_ratio(self.corners[p], mapped) > 0.0 {
+                            mapped
+                        } else {
+                            // The corner's point on the mask, at rest or moved.
+                            let on_mask = |k: usize, moved: bool| {
+                                let (s, b) = *self.points.get(t[k] as usize)?;
+                                let m = mask_triangles.get(s as usize)?;
+                                let corner = |i: usize| {
+                                    let v = m[i] as usize;
+                                    if moved { rest[v] + delta[v] } else { rest[v] }
+                                };
+                                Some((0..3).map(|i| corner(i) * b[i]).sum::<DVec3>())
                             };
-                            Some((0..3).map(|i| corner(i) * b[i]).sum::<DVec3>())
-                        };
-                        let chord = [0, 1, 2].map(|k| on_mask(k, false));
-                        let chord_moved = [0, 1, 2].map(|k| on_mask(k, true));
-                        match (chord, chord_moved) {
-                            ([Some(a), Some(b), Some(c)], [Some(d), Some(e), Some(f)]) => {
-                                unfolded(self.corners[p], mapped, ([a, b, c], [d, e, f]), rotation)
+                            let chord = [0, 1, 2].map(|k| on_mask(k, false));
+                            let chord_moved = [0, 1, 2].map(|k| on_mask(k, true));
+                            match (chord, chord_moved) {
+                                ([Some(a), Some(b), Some(c)], [Some(d), Some(e), Some(f)]) => {
+                                    unfolded(
+                                        self.corners[p],
+                                        mapped,
+                                        ([a, b, c], [d, e, f]),
+                                        rotation,
+                                    )
+                                }
+                                _ => mapped,
                             }
-                            _ => mapped,
                         }
                     }
                     _ => DMat3::ZERO,

@@ -50,6 +50,24 @@ fn a_session_onto_a_user_avatar_gives_a_glb_a_map_and_a_summary() {
         text(&first.stderr)
     );
     assert_eq!(v["registration_cached"], false);
+    // The whole command's time covers the steps after reading (the avatar
+    // is read while the session is).
+    let seconds = &v["seconds"];
+    let step = |k: &str| seconds[k].as_f64().unwrap_or(f64::NAN);
+    let after_reading: f64 = [
+        "registration",
+        "take_face",
+        "retargeting",
+        "implant",
+        "write",
+    ]
+    .iter()
+    .map(|k| step(k))
+    .sum();
+    assert!(
+        step("total") >= step("read_session") + after_reading,
+        "{seconds}"
+    );
     // An avatar the user brings keeps its own face unless asked.
     assert_eq!(v["rest_face"], "stock", "{v}");
     assert_eq!(v["face_fit_mm"], serde_json::Value::Null, "{v}");

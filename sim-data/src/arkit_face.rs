@@ -37,7 +37,7 @@ use glam::{DMat3, DVec3, Vec3};
 use likeness::avatar::registration::lips_parting::{STILL, WITH_JAW};
 use likeness::avatar::registration::{FaceRegistration, find_face};
 use likeness::avatar::{Avatar, AvatarMesh, AvatarPart};
-use likeness::geometry::closest_point::TriangleGrid;
+use likeness::geometry::closest_point::TriangleTree;
 use likeness::geometry::mesh_boundary::boundary_loops;
 use likeness::io::obj_reader::{ObjLimits, read_obj};
 use likeness::{Blendshape, Template, Topology};
@@ -247,7 +247,7 @@ fn register_simulator_mask(
 /// registered mask, plus its tangential offset from there (module docs).
 fn carried_uv(positions: &[DVec3], registration: &FaceRegistration) -> Vec<[f64; 2]> {
     let ours = face_mask();
-    let grid = TriangleGrid::new(&registration.mask_on_avatar, ours.topology.triangles());
+    let grid = TriangleTree::new(&registration.mask_on_avatar, ours.topology.triangles());
     positions
         .iter()
         .map(|p| {

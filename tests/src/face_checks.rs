@@ -13,7 +13,7 @@ use likeness::avatar::own_shapes::{face_part_triangles, skin_points};
 use likeness::avatar::partial_transfer::eyelid_repair::depth;
 use likeness::avatar::personal_avatar::PersonalAvatar;
 use likeness::avatar::registration::FaceRegistration;
-use likeness::geometry::closest_point::TriangleGrid;
+use likeness::geometry::closest_point::TriangleTree;
 use likeness::geometry::mesh_boundary::boundary_loops;
 pub use likeness::geometry::self_intersection::intersecting_pairs;
 use likeness::{Blendshape, Blendshapes, Topology};
@@ -95,10 +95,10 @@ pub fn face_checks(
     }
     let bands = seam_statistics(&stock32, &triangles, &face, &change);
 
-    let eyeball_grids: Vec<TriangleGrid> = found
+    let eyeball_grids: Vec<TriangleTree> = found
         .eyeballs
         .iter()
-        .map(|e| TriangleGrid::new(&rest, &avatar.triangles_within(e)))
+        .map(|e| TriangleTree::new(&rest, &avatar.triangles_within(e)))
         .collect();
     let in_eyeball: Vec<bool> = {
         let mut f = vec![false; rest.len()];

@@ -105,7 +105,7 @@ fn farthest_left_out_mm(
         .filter(|t| t.iter().any(|v| rims.contains(v)))
         .copied()
         .collect();
-    let band = likeness::geometry::closest_point::TriangleGrid::new(rig.neutral(), &band);
+    let band = likeness::geometry::closest_point::TriangleTree::new(rig.neutral(), &band);
     let to_segment = |p: DVec3, (a, b): (DVec3, DVec3)| {
         let t = ((p - a).dot(b - a) / (b - a).length_squared()).clamp(0.0, 1.0);
         (a + (b - a) * t - p).length()

@@ -22,7 +22,7 @@ use super::model::Avatar;
 use super::registration::FaceRegistration;
 use super::registration::find_face::arkit_displacement;
 use crate::arkit::Blendshape;
-use crate::geometry::closest_point::TriangleGrid;
+use crate::geometry::closest_point::TriangleTree;
 use crate::personalize::blendshape_fit::in_parallel_map;
 use glam::{DVec3, Vec3};
 use std::fmt;
@@ -364,8 +364,9 @@ pub struct EyeProbe {
     rest: Vec<DVec3>,
     /// The eyeball's vertices.
     eye: Vec<u32>,
-    /// The eyeball's triangles, over its own vertices (`eye`'s order).
-    triangles: Vec<[u32; 3]>,
+    /// The eyeball's triangles, over its own vertices (`eye`'s order), at
+    /// rest.
+    tree: TriangleTree,
     /// Skin vertices near it, in no eyeball.
     near: Vec<usize>,
 }
@@ -389,10 +390,11 @@ impl EyeProbe {
         let near: Vec<usize> = (0..rest.len())
             .filter(|&v| !in_eyeball[v] && (rest[v] - centre).length() < 1.5 * radius)
             .collect();
+        let at_rest: Vec<DVec3> = eye.iter().map(|&v| rest[v as usize]).collect();
         EyeProbe {
+            tree: TriangleTree::new(&at_rest, &triangles),
             rest,
             eye: eye.to_vec(),
-            triangles,
             near,
         }
     }
@@ -403,7 +405,7 @@ impl EyeProbe {
     fn depths(&self, d: &[Vec3]) -> Vec<f64> {
         let posed = |v: usize| self.rest[v] + d[v].as_dvec3();
         let eye_posed: Vec<DVec3> = self.eye.iter().map(|&v| posed(v as usize)).collect();
-        let grid = TriangleGrid::new(&eye_posed, &self.triangles);
+        let grid = self.tree.moved_to(&eye_posed);
         // Nothing farther from the posed eyeball's centre than its radius
         // is inside it.
         let (centre, radius) =

@@ -48,7 +48,7 @@ use super::registration::find_face::arkit_displacement;
 use super::registration::nonrigid::vertex_normals;
 use super::registration::rigid_icp::MIN_NORMAL_DOT;
 use crate::arkit::{Blendshape, Blendshapes, BlendshapesError};
-use crate::geometry::closest_point::TriangleGrid;
+use crate::geometry::closest_point::TriangleTree;
 use crate::geometry::laplacian::normal_lower;
 use crate::geometry::sparse_cholesky;
 use faer::Mat;
@@ -183,7 +183,7 @@ pub fn skin_points(
     face_triangles: &[[u32; 3]],
     reach: f64,
 ) -> Vec<Option<([u32; 3], [f64; 3])>> {
-    let grid = TriangleGrid::new(positions, face_triangles);
+    let grid = TriangleTree::new(positions, face_triangles);
     // The compatible closest point: a mask vertex on the lip's edge takes
     // the lip's outer skin, not the lining of the mouth behind it, which
     // the avatar's own mouthRollLower moves quite differently.

@@ -1,23 +1,29 @@
 //! Closest points on a triangle mesh: the query behind ICP, non-rigid
 //! registration and the correspondence map `M` of §3.3.
 //!
-//! The triangles are binned into a uniform grid of cubic cells over their
-//! bounding box (about [`TRIANGLES_PER_CELL`] triangles per occupied cell on
-//! a surface), each triangle into every cell its bounding box overlaps. A
-//! query visits the cells in growing shells around the query point's cell
-//! and stops once the next shell is farther than the best distance found:
-//! the answer is exact, not approximate. Each triangle carries a bounding
-//! sphere, so a triangle that cannot beat the best found so far is skipped
-//! without the exact test. Point-to-triangle distance follows
-//! Ericson, *Real-Time Collision Detection* (2005), §5.1.5: the closest
-//! point lies in one of the triangle's seven Voronoi regions (three
-//! vertices, three edges, the face), found from the signs of a few dot
-//! products.
+//! The triangles are kept in a bounding-volume hierarchy: a binary tree
+//! of axis-aligned boxes, each node's box holding its triangles, split at
+//! the median of the triangles' centroids along the longest axis of their
+//! spread until a leaf holds at most [`LEAF_TRIANGLES`] (the
+//! "median-split" build of Wald, Boulos & Shirley, *Ray Tracing
+//! Deformable Scenes Using Dynamic Bounding Volume Hierarchies*, 2007,
+//! §3). A query descends nearer child first and skips every node whose
+//! box is farther than the best distance found so far, so the answer is
+//! exact, not approximate, and costs about `log n` boxes wherever the
+//! triangles crowd (the fan at a sphere's pole, a dense face on a coarse
+//! body), which a uniform grid does not. Point-to-triangle distance
+//! follows Ericson, *Real-Time Collision Detection* (2005), §5.1.5: the
+//! closest point lies in one of the triangle's seven Voronoi regions
+//! (three vertices, three edges, the face), found from the signs of a few
+//! dot products.
+//!
+//! Of triangles at the same distance the one listed first is the answer,
+//! whatever the tree's shape.
 
 use glam::DVec3;
 
-/// Target average of triangles per grid cell.
-pub const TRIANGLES_PER_CELL: f64 = 4.0;
+/// Most triangles in a leaf of the tree.
+pub const LEAF_TRIANGLES: usize = 4;
 
 /// The closest point of a mesh to a query point.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -32,112 +38,179 @@ pub struct ClosestPoint {
     pub distance: f64,
 }
 
-/// A triangle mesh binned for closest-point queries.
-#[derive(Clone, Debug)]
-pub struct TriangleGrid {
-    triangles: Vec<[u32; 3]>,
-    /// Each triangle's corners (only the triangles' own vertices are
-    /// kept, however many `positions` the grid was built over).
-    corners: Vec<[DVec3; 3]>,
-    /// Each triangle's bounding sphere: its centroid and the largest
-    /// distance of a corner from it.
-    spheres: Vec<(DVec3, f64)>,
-    origin: DVec3,
-    cell: f64,
-    dims: [usize; 3],
-    /// Cell `c`'s triangles are `items[starts[c]..starts[c + 1]]`.
-    starts: Vec<usize>,
-    items: Vec<u32>,
+/// One node of the tree: its box and either its two children (at
+/// `first` and `first + 1`, `count == 0`) or its triangles (`count` of
+/// them from `first` in the tree's order).
+#[derive(Clone, Copy, Debug)]
+struct Node {
+    lo: DVec3,
+    hi: DVec3,
+    first: u32,
+    count: u32,
 }
 
-impl TriangleGrid {
-    /// Bins `triangles` over `positions`. Triangles with an index past
-    /// `positions` are left out (the caller's topology check reports them).
-    pub fn new(positions: &[DVec3], triangles: &[[u32; 3]]) -> TriangleGrid {
+impl Node {
+    /// The distance from `p` to the node's box (0 inside).
+    fn distance(&self, p: DVec3) -> f64 {
+        (self.lo - p).max(p - self.hi).max(DVec3::ZERO).length()
+    }
+}
+
+/// A triangle mesh kept in a bounding-volume hierarchy for closest-point
+/// queries (module docs).
+#[derive(Clone, Debug)]
+pub struct TriangleTree {
+    triangles: Vec<[u32; 3]>,
+    /// Each triangle's corners (only the triangles' own vertices are
+    /// kept, however many `positions` the tree was built over).
+    corners: Vec<[DVec3; 3]>,
+    /// Each triangle's unit normal (zero for a degenerate one).
+    normals: Vec<DVec3>,
+    /// The triangles in the tree's order: a leaf's are contiguous.
+    order: Vec<u32>,
+    /// The root first; children in adjacent pairs.
+    nodes: Vec<Node>,
+}
+
+/// Deepest a tree can be: each split halves the triangles, so 2⁶⁴ would
+/// be needed to pass it.
+const MAX_DEPTH: usize = 64;
+
+impl TriangleTree {
+    /// Builds the tree of `triangles` over `positions`. Triangles with an
+    /// index past `positions` are left out (the caller's topology check
+    /// reports them).
+    pub fn new(positions: &[DVec3], triangles: &[[u32; 3]]) -> TriangleTree {
         let n = positions.len();
         let triangles: Vec<[u32; 3]> = triangles
             .iter()
             .copied()
             .filter(|t| t.iter().all(|&i| (i as usize) < n))
             .collect();
-        let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
-        for t in &triangles {
-            for &i in t {
-                lo = lo.min(positions[i as usize]);
-                hi = hi.max(positions[i as usize]);
-            }
-        }
-        if triangles.is_empty() {
-            (lo, hi) = (DVec3::ZERO, DVec3::ZERO);
-        }
-        let extent = (hi - lo).max(DVec3::splat(1e-12));
-        // A surface of area ~ the box's largest faces: cells of side `cell`
-        // hold about `tri / (area / cell²)` triangles each.
-        let area = extent.x * extent.y + extent.y * extent.z + extent.z * extent.x;
-        let count = triangles.len().max(1) as f64;
-        let cell = (TRIANGLES_PER_CELL * area / count)
-            .sqrt()
-            .max(extent.max_element() / 256.0);
-        let dims =
-            [extent.x, extent.y, extent.z].map(|e| ((e / cell).floor() as usize + 1).min(256));
-        let cells = dims[0] * dims[1] * dims[2];
         let corners: Vec<[DVec3; 3]> = triangles
             .iter()
             .map(|t| t.map(|i| positions[i as usize]))
             .collect();
-        let spheres = corners
+        let centroids: Vec<DVec3> = corners
             .iter()
-            .map(|corners| {
-                let centre = (corners[0] + corners[1] + corners[2]) / 3.0;
-                let radius = corners
-                    .iter()
-                    .map(|c| (*c - centre).length())
-                    .fold(0.0, f64::max);
-                (centre, radius)
-            })
+            .map(|[a, b, c]| (*a + *b + *c) / 3.0)
             .collect();
-        let mut grid = TriangleGrid {
+        let mut tree = TriangleTree {
+            order: (0..triangles.len() as u32).collect(),
+            normals: corners.iter().map(unit_normal).collect(),
             triangles,
             corners,
-            spheres,
-            origin: lo,
-            cell,
-            dims,
-            starts: vec![0; cells + 1],
-            items: Vec::new(),
+            nodes: Vec::new(),
         };
-        // Two passes: count, then fill (a CSR layout, no per-cell vectors).
-        let ranges: Vec<([usize; 3], [usize; 3])> =
-            grid.corners.iter().map(|c| grid.cell_range(c)).collect();
-        let mut counts = vec![0usize; cells + 1];
-        for (a, b) in &ranges {
-            for z in a[2]..=b[2] {
-                for y in a[1]..=b[1] {
-                    for x in a[0]..=b[0] {
-                        counts[grid.index([x, y, z]) + 1] += 1;
+        if !tree.triangles.is_empty() {
+            tree.split(&centroids);
+            tree.fit_boxes();
+        }
+        tree
+    }
+
+    /// The same triangles over `positions` (the same vertices moved, as a
+    /// shape moves them), in the same tree with its boxes fitted anew (a
+    /// "refit", Wald et al. 2007, §4): exact still, and as quick as long
+    /// as the motion is mostly rigid, as an eyeball's is.
+    ///
+    /// Triangles with an index past `positions` are left out, and the tree
+    /// built anew, if any are.
+    pub fn moved_to(&self, positions: &[DVec3]) -> TriangleTree {
+        let n = positions.len();
+        if self
+            .triangles
+            .iter()
+            .any(|t| t.iter().any(|&i| i as usize >= n))
+        {
+            return TriangleTree::new(positions, &self.triangles);
+        }
+        let corners: Vec<[DVec3; 3]> = self
+            .triangles
+            .iter()
+            .map(|t| t.map(|i| positions[i as usize]))
+            .collect();
+        let mut tree = TriangleTree {
+            triangles: self.triangles.clone(),
+            normals: corners.iter().map(unit_normal).collect(),
+            corners,
+            order: self.order.clone(),
+            nodes: self.nodes.clone(),
+        };
+        tree.fit_boxes();
+        tree
+    }
+
+    /// Splits the triangles into the tree (module docs), from the root
+    /// down: a node of more than [`LEAF_TRIANGLES`] is split at the median
+    /// of its triangles' centroids along the axis they spread most on.
+    /// Leaves the boxes to [`TriangleTree::fit_boxes`].
+    fn split(&mut self, centroids: &[DVec3]) {
+        let node = |first: usize, count: usize| Node {
+            lo: DVec3::ZERO,
+            hi: DVec3::ZERO,
+            first: first as u32,
+            count: count as u32,
+        };
+        self.nodes = vec![node(0, self.triangles.len())];
+        let mut pending = vec![0];
+        while let Some(at) = pending.pop() {
+            let Node { first, count, .. } = self.nodes[at];
+            let (first, count) = (first as usize, count as usize);
+            if count <= LEAF_TRIANGLES {
+                continue;
+            }
+            let range = &mut self.order[first..first + count];
+            let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+            for &t in range.iter() {
+                lo = lo.min(centroids[t as usize]);
+                hi = hi.max(centroids[t as usize]);
+            }
+            let spread = hi - lo;
+            let axis = if spread.x >= spread.y && spread.x >= spread.z {
+                0
+            } else if spread.y >= spread.z {
+                1
+            } else {
+                2
+            };
+            let half = count / 2;
+            range.select_nth_unstable_by(half, |&a, &b| {
+                centroids[a as usize][axis].total_cmp(&centroids[b as usize][axis])
+            });
+            let children = self.nodes.len();
+            self.nodes
+                .extend([node(first, half), node(first + half, count - half)]);
+            self.nodes[at].first = children as u32;
+            self.nodes[at].count = 0;
+            pending.extend([children, children + 1]);
+        }
+    }
+
+    /// Each node's box: a leaf's round its triangles' corners, an inner
+    /// node's round its children's (children come after their parent, so
+    /// one pass from the back does it).
+    fn fit_boxes(&mut self) {
+        for at in (0..self.nodes.len()).rev() {
+            let Node { first, count, .. } = self.nodes[at];
+            let first = first as usize;
+            let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+            if count == 0 {
+                for child in &self.nodes[first..first + 2] {
+                    lo = lo.min(child.lo);
+                    hi = hi.max(child.hi);
+                }
+            } else {
+                for &t in &self.order[first..first + count as usize] {
+                    for c in self.corners[t as usize] {
+                        lo = lo.min(c);
+                        hi = hi.max(c);
                     }
                 }
             }
+            self.nodes[at].lo = lo;
+            self.nodes[at].hi = hi;
         }
-        for c in 0..cells {
-            counts[c + 1] += counts[c];
-        }
-        let mut fill = counts.clone();
-        let mut items = vec![0u32; counts[cells]];
-        for (t, (a, b)) in ranges.iter().enumerate() {
-            for z in a[2]..=b[2] {
-                for y in a[1]..=b[1] {
-                    for x in a[0]..=b[0] {
-                        let c = grid.index([x, y, z]);
-                        items[fill[c]] = t as u32;
-                        fill[c] += 1;
-                    }
-                }
-            }
-        }
-        grid.starts = counts;
-        grid.items = items;
-        grid
     }
 
     /// The triangles, as given (less any with an out-of-range index).
@@ -145,13 +218,10 @@ impl TriangleGrid {
         &self.triangles
     }
 
-    /// The unit normal of triangle `t` (of [`TriangleGrid::triangles`]),
+    /// The unit normal of triangle `t` (of [`TriangleTree::triangles`]),
     /// zero for a degenerate or unknown triangle.
     pub fn triangle_normal(&self, t: usize) -> DVec3 {
-        let Some(&[a, b, c]) = self.corners.get(t) else {
-            return DVec3::ZERO;
-        };
-        (b - a).cross(c - a).normalize_or_zero()
+        self.normals.get(t).copied().unwrap_or(DVec3::ZERO)
     }
 
     /// The point of the mesh closest to `p`; `None` for a mesh without
@@ -183,64 +253,65 @@ impl TriangleGrid {
     }
 
     /// The closest point of `p` within `max_distance` among the triangles
-    /// `accept` takes: shells of cells outwards until the next shell is
-    /// farther than the best found (module docs).
+    /// `accept` takes: the tree descended nearer box first, every box
+    /// farther than the best found skipped (module docs).
     pub fn closest_where(
         &self,
         p: DVec3,
         max_distance: f64,
         accept: impl Fn(usize) -> bool,
     ) -> Option<ClosestPoint> {
-        // Every triangle lies within the grid's box.
-        if self.triangles.is_empty() || self.outside_distance(p) > max_distance {
+        if self.nodes.is_empty() || max_distance.is_nan() || max_distance < 0.0 {
             return None;
         }
-        let home = self.cell_of(p);
+        // The best distance so far (or the limit), and what it was found
+        // on.
+        let mut limit = max_distance;
         let mut best: Option<ClosestPoint> = None;
-        let max_shell = self.dims.iter().max().copied().unwrap_or(1);
-        for shell in 0..=max_shell + 1 {
-            let limit = best.map_or(max_distance, |b| b.distance.min(max_distance));
-            if self.shell_distance(p, home, shell) > limit {
-                break;
+        let mut stack = [0u32; MAX_DEPTH + 1];
+        let mut depth = usize::from(self.nodes[0].distance(p) <= limit);
+        while depth > 0 {
+            depth -= 1;
+            let node = self.nodes[stack[depth] as usize];
+            if node.distance(p) > limit {
+                continue;
             }
-            self.for_shell(home, shell, |t| {
-                let limit = best.map_or(max_distance, |b| b.distance.min(max_distance));
-                let (centre, radius) = self.spheres[t];
-                if (p - centre).length() - radius > limit || !accept(t) {
-                    return;
+            let first = node.first as usize;
+            if node.count > 0 {
+                for &t in &self.order[first..first + node.count as usize] {
+                    let t = t as usize;
+                    if !accept(t) {
+                        continue;
+                    }
+                    let c = self.closest_on_triangle(t, p);
+                    let better = match best {
+                        None => c.distance <= limit,
+                        Some(b) => c.distance < limit || (c.distance == limit && t < b.triangle),
+                    };
+                    if better {
+                        limit = c.distance;
+                        best = Some(c);
+                    }
                 }
-                let c = self.closest_on_triangle(t, p);
-                if c.distance <= max_distance && best.is_none_or(|b| c.distance < b.distance) {
-                    best = Some(c);
+                continue;
+            }
+            // The nearer child goes on top of the stack, so it is searched
+            // first.
+            let (a, b) = (first, first + 1);
+            let (da, db) = (self.nodes[a].distance(p), self.nodes[b].distance(p));
+            let ((near, d_near), (far, d_far)) = if da <= db {
+                ((a, da), (b, db))
+            } else {
+                ((b, db), (a, da))
+            };
+            for (child, d) in [(far, d_far), (near, d_near)] {
+                if d <= limit && depth < stack.len() {
+                    stack[depth] = child as u32;
+                    depth += 1;
                 }
-            });
+            }
         }
         best
-    }
-
-    /// A lower bound on the distance from `p` (whose cell, clamped onto
-    /// the grid, is `home`) to any point of a cell of shell `shell`: such
-    /// a point lies outside the box of the cells within `shell − 1` of
-    /// `home`, so at least as far as `p` is from that box's nearest face
-    /// (inside it), or from the grid's box (outside the grid).
-    fn shell_distance(&self, p: DVec3, home: [usize; 3], shell: usize) -> f64 {
-        if shell == 0 {
-            return 0.0;
-        }
-        let inner = shell as f64 - 1.0;
-        let q = (p - self.origin) / self.cell;
-        let mut gap = f64::INFINITY;
-        for (axis, v) in [q.x, q.y, q.z].into_iter().enumerate() {
-            let h = home[axis] as f64;
-            // Faces of the inner box that have cells beyond them.
-            if h - inner > 0.0 {
-                gap = gap.min(v - (h - inner));
-            }
-            if h + inner + 1.0 < self.dims[axis] as f64 {
-                gap = gap.min(h + inner + 1.0 - v);
-            }
-        }
-        (gap.max(0.0) * self.cell).max(self.outside_distance(p))
     }
 
     fn closest_on_triangle(&self, t: usize, p: DVec3) -> ClosestPoint {
@@ -253,68 +324,12 @@ impl TriangleGrid {
             distance: (point - p).length(),
         }
     }
+}
 
-    fn outside_distance(&self, p: DVec3) -> f64 {
-        let hi = self.origin
-            + DVec3::new(
-                self.dims[0] as f64,
-                self.dims[1] as f64,
-                self.dims[2] as f64,
-            ) * self.cell;
-        let d = (self.origin - p).max(p - hi).max(DVec3::ZERO);
-        d.length()
-    }
-
-    /// The cell holding `p`, clamped onto the grid.
-    fn cell_of(&self, p: DVec3) -> [usize; 3] {
-        let q = (p - self.origin) / self.cell;
-        let mut out = [0; 3];
-        for (axis, v) in [q.x, q.y, q.z].into_iter().enumerate() {
-            let v = if v.is_finite() {
-                v.floor().max(0.0)
-            } else {
-                0.0
-            };
-            out[axis] = (v as usize).min(self.dims[axis] - 1);
-        }
-        out
-    }
-
-    fn cell_range(&self, ps: &[DVec3; 3]) -> ([usize; 3], [usize; 3]) {
-        let lo = ps[0].min(ps[1]).min(ps[2]);
-        let hi = ps[0].max(ps[1]).max(ps[2]);
-        (self.cell_of(lo), self.cell_of(hi))
-    }
-
-    fn index(&self, [x, y, z]: [usize; 3]) -> usize {
-        (z * self.dims[1] + y) * self.dims[0] + x
-    }
-
-    /// Calls `visit` for each triangle in the cells at Chebyshev distance
-    /// exactly `shell` from `home` (a triangle in several cells may be
-    /// visited more than once).
-    fn for_shell(&self, home: [usize; 3], shell: usize, mut visit: impl FnMut(usize)) {
-        let s = shell as isize;
-        let h = home.map(|v| v as isize);
-        let d = self.dims.map(|v| v as isize);
-        for z in (h[2] - s).max(0)..=(h[2] + s).min(d[2] - 1) {
-            for y in (h[1] - s).max(0)..=(h[1] + s).min(d[1] - 1) {
-                let on_face = (z - h[2]).abs() == s || (y - h[1]).abs() == s;
-                // On the shell's faces every x; inside, only its two ends.
-                let step = if on_face || s == 0 { 1 } else { 2 * s };
-                let mut x = h[0] - s;
-                while x <= h[0] + s {
-                    if (0..d[0]).contains(&x) {
-                        let c = self.index([x as usize, y as usize, z as usize]);
-                        for &t in &self.items[self.starts[c]..self.starts[c + 1]] {
-                            visit(t as usize);
-                        }
-                    }
-                    x += step;
-                }
-            }
-        }
-    }
+/// The unit normal of triangle `abc` (counter-clockwise seen from the
+/// side it points to), zero for a degenerate one.
+fn unit_normal([a, b, c]: &[DVec3; 3]) -> DVec3 {
+    (*b - *a).cross(*c - *a).normalize_or_zero()
 }
 
 /// The point of segment `a`–`b` closest to `p`, and its parameter `t ∈
@@ -397,9 +412,9 @@ mod tests {
     }
 
     #[test]
-    fn the_grid_finds_what_brute_force_finds() {
+    fn the_tree_finds_what_brute_force_finds() {
         let (positions, triangles) = surface();
-        let grid = TriangleGrid::new(&positions, &triangles);
+        let grid = TriangleTree::new(&positions, &triangles);
         for k in 0..200 {
             let f = k as f64;
             let p = DVec3::new(
@@ -427,14 +442,14 @@ mod tests {
     }
 
     #[test]
-    fn a_grid_over_a_few_of_many_vertices_answers_in_the_given_indices() {
+    fn a_tree_over_a_few_of_many_vertices_answers_in_the_given_indices() {
         let (positions, triangles) = surface();
         // The same surface after 100 vertices no triangle uses.
         let mut padded = vec![DVec3::splat(50.0); 100];
         padded.extend(&positions);
         let shifted: Vec<[u32; 3]> = triangles.iter().map(|t| t.map(|i| i + 100)).collect();
-        let grid = TriangleGrid::new(&positions, &triangles);
-        let padded_grid = TriangleGrid::new(&padded, &shifted);
+        let grid = TriangleTree::new(&positions, &triangles);
+        let padded_grid = TriangleTree::new(&padded, &shifted);
         assert_eq!(padded_grid.triangles(), &shifted[..]);
         for p in [DVec3::new(0.1, 0.2, 0.05), DVec3::new(-2.0, 0.1, 0.0)] {
             let (a, b) = (grid.closest(p), padded_grid.closest(p));
@@ -451,6 +466,115 @@ mod tests {
         let found = grid.closest_within(beyond, 0.31).expect("within reach");
         assert!((found.distance - 0.3).abs() < 0.01, "{}", found.distance);
         assert!(grid.closest_within(beyond, 0.29).is_none());
+    }
+
+    /// A UV sphere of radius 1 (`rings` × `segments`, fans at both
+    /// poles, faces outwards): the crowded poles a uniform grid chokes on.
+    fn uv_sphere(rings: usize, segments: usize) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+        let mut positions = vec![DVec3::Z, -DVec3::Z];
+        for r in 1..rings {
+            let theta = std::f64::consts::PI * r as f64 / rings as f64;
+            for s in 0..segments {
+                let phi = std::f64::consts::TAU * s as f64 / segments as f64;
+                positions.push(DVec3::new(
+                    theta.sin() * phi.cos(),
+                    theta.sin() * phi.sin(),
+                    theta.cos(),
+                ));
+            }
+        }
+        let at = |r: usize, s: usize| (2 + (r - 1) * segments + s % segments) as u32;
+        let mut triangles = Vec::new();
+        for s in 0..segments {
+            triangles.push([0, at(1, s), at(1, s + 1)]);
+            triangles.push([1, at(rings - 1, s + 1), at(rings - 1, s)]);
+            for r in 1..rings - 1 {
+                triangles.push([at(r, s), at(r + 1, s), at(r + 1, s + 1)]);
+                triangles.push([at(r, s), at(r + 1, s + 1), at(r, s + 1)]);
+            }
+        }
+        (positions, triangles)
+    }
+
+    #[test]
+    fn inside_and_outside_a_sphere_with_crowded_poles_as_brute_force() {
+        let (positions, triangles) = uv_sphere(40, 48);
+        let tree = TriangleTree::new(&positions, &triangles);
+        for k in 0..300 {
+            let f = k as f64;
+            // Points from the centre to twice the radius, many near the
+            // poles.
+            let direction = DVec3::new((f * 0.37).sin() * 0.3, (f * 0.91).cos() * 0.3, 1.0)
+                .normalize()
+                * if k % 2 == 0 { 1.0 } else { -1.0 };
+            let p = direction * (f * 0.013).rem_euclid(2.0);
+            let found = tree.closest(p).expect("a mesh");
+            let brute = (0..triangles.len())
+                .map(|t| (tree.closest_on_triangle(t, p).distance, t))
+                .fold((f64::INFINITY, 0), |a, b| if b.0 < a.0 { b } else { a });
+            assert_eq!(found.distance, brute.0, "{p}");
+            // Of equally near triangles, the first listed.
+            assert_eq!(found.triangle, brute.1, "{p}");
+            // Inside is on the inner side of the closest triangle.
+            let inside = (p - found.point).dot(tree.triangle_normal(found.triangle)) < 0.0;
+            assert_eq!(inside, p.length() < 0.99, "{p}");
+            let facing = tree.closest_facing(p, DVec3::Z, 0.5, 0.5);
+            let brute_facing = (0..triangles.len())
+                .filter(|&t| tree.triangle_normal(t).dot(DVec3::Z) >= 0.5)
+                .map(|t| tree.closest_on_triangle(t, p).distance)
+                .fold(f64::INFINITY, f64::min);
+            match facing {
+                Some(c) => assert_eq!(c.distance, brute_facing),
+                None => assert!(brute_facing > 0.5, "{p}"),
+            }
+        }
+    }
+
+    #[test]
+    fn a_tree_moved_with_its_mesh_answers_as_one_built_anew() {
+        let (positions, triangles) = uv_sphere(24, 32);
+        let tree = TriangleTree::new(&positions, &triangles);
+        // Turned 0.6 rad about a slanted axis, stretched and shifted.
+        let turn = glam::DQuat::from_axis_angle(DVec3::new(1.0, 2.0, 0.5).normalize(), 0.6);
+        let moved: Vec<DVec3> = positions
+            .iter()
+            .map(|&p| turn * p * DVec3::new(1.0, 1.2, 0.9) + DVec3::new(3.0, -1.0, 0.5))
+            .collect();
+        let (refit, anew) = (tree.moved_to(&moved), TriangleTree::new(&moved, &triangles));
+        for k in 0..100 {
+            let f = k as f64;
+            let p = DVec3::new(
+                3.0 + (f * 0.7).sin(),
+                -1.0 + (f * 0.3).cos(),
+                0.5 + (f * 0.11).sin(),
+            );
+            let (a, b) = (
+                refit.closest(p).expect("a mesh"),
+                anew.closest(p).expect("a mesh"),
+            );
+            assert_eq!((a.triangle, a.distance), (b.triangle, b.distance), "{p}");
+        }
+        // Fewer positions than the triangles use: the out-of-range ones
+        // are left out, as a new tree would.
+        let few = tree.moved_to(&moved[..100]);
+        assert_eq!(
+            few.triangles(),
+            TriangleTree::new(&moved[..100], &triangles).triangles()
+        );
+    }
+
+    #[test]
+    fn an_empty_mesh_and_bad_limits_find_nothing() {
+        let (positions, triangles) = surface();
+        assert!(
+            TriangleTree::new(&positions, &[])
+                .closest(DVec3::ZERO)
+                .is_none()
+        );
+        let tree = TriangleTree::new(&positions, &triangles);
+        assert!(tree.closest_within(DVec3::ZERO, f64::NAN).is_none());
+        assert!(tree.closest_within(DVec3::ZERO, -1.0).is_none());
+        assert!(tree.closest(DVec3::NAN).is_none());
     }
 
     #[test]

@@ -9,7 +9,7 @@
 //! | §3.2, virtual eye triangles (Saito 2013) | boundary loops, eye holes spanned lid to lid | [`mesh_boundary`] |
 //! | §3.2 (ref. 47) | per-triangle deformation gradients (Sumner & Popović 2004) | [`deformation_gradient`] |
 //! | §3.2 (ref. 47), §3.3 | gradient-domain deformation transfer (Botsch et al. 2006), lid contacts, translation | [`deformation_transfer`] |
-//! | §3.3, ICP and the map `M` | exact closest points on a triangle mesh, binned in a grid (Ericson 2005) | [`closest_point`] |
+//! | §3.3, ICP and the map `M` | exact closest points on a triangle mesh in a bounding-volume hierarchy (Ericson 2005; Wald et al. 2007) | [`closest_point`] |
 //! | §3.3, teeth and eyeballs inside one mesh | connected components (union–find) | [`connected_components`] |
 //! | §3.3, the skin the mask may lie on | triangles seen from the front (orthographic depth buffer) | [`front_visibility`] |
 //! | §3.3, the blend margin; motion faded out where nothing moves | shortest edge paths from a set of vertices (Dijkstra) | [`edge_distance`] |

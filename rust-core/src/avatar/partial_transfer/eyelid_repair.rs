@@ -19,7 +19,7 @@
 //! eyeball) is the rig's own, and one the own shape keeps out is put out,
 //! however it rests.
 
-use crate::geometry::closest_point::TriangleGrid;
+use crate::geometry::closest_point::TriangleTree;
 use glam::DVec3;
 
 /// How far outside the eyeball a repaired lid vertex is put (mm at the
@@ -44,9 +44,11 @@ pub struct Eyeball {
     /// it was made over, increasing.
     pub vertices: Vec<u32>,
     /// Those of its triangles, in order, over `vertices` (indices into
-    /// it): a grid of the eyeball alone, posed in a shape, is built over
-    /// them.
+    /// it).
     pub local: Vec<[u32; 3]>,
+    /// The tree of `local` over the eyeball's rest positions: moved to a
+    /// shape's, it finds the eyeball's closest points in that shape.
+    pub tree: TriangleTree,
 }
 
 impl Eyeball {
@@ -74,16 +76,19 @@ impl Eyeball {
         let mut vertices: Vec<u32> = within.iter().flatten().copied().collect();
         vertices.sort_unstable();
         vertices.dedup();
-        let local = within
+        let local: Vec<[u32; 3]> = within
             .iter()
             .map(|t| t.map(|v| vertices.binary_search(&v).unwrap_or(0) as u32))
             .collect();
+        let at_rest: Vec<DVec3> = vertices.iter().map(|&v| rest[v as usize]).collect();
+        let tree = TriangleTree::new(&at_rest, &local);
         Eyeball {
             triangles,
             centre,
             radius,
             vertices,
             local,
+            tree,
         }
     }
 }
@@ -111,7 +116,7 @@ pub fn repair_eyelids(
     let own_posed = |v: usize| rest[v] + own.get(v).copied().unwrap_or(DVec3::ZERO);
     let mut changes: Vec<(usize, DVec3)> = Vec::new();
     for eyeball in eyeballs {
-        let (vertices, local) = (&eyeball.vertices, &eyeball.local);
+        let (vertices, tree) = (&eyeball.vertices, &eyeball.tree);
         // Where the shape leaves the eyeball and a vertex as the avatar's
         // own shape (or its rest) has them, the vertex is exactly as deep
         // as it may be: nothing to look at.
@@ -137,10 +142,10 @@ pub fn repair_eyelids(
         let on = |place: &dyn Fn(usize) -> DVec3| -> Vec<DVec3> {
             vertices.iter().map(|&v| place(v as usize)).collect()
         };
-        let grid = TriangleGrid::new(&on(&posed), local);
+        let grid = tree.moved_to(&on(&posed));
         let allowed_by = match own.is_empty() {
-            true => TriangleGrid::new(&on(&|v| rest[v]), local),
-            false => TriangleGrid::new(&on(&own_posed), local),
+            true => tree.clone(),
+            false => tree.moved_to(&on(&own_posed)),
         };
         for v in looked_at {
             let (p0, p) = (rest[v], posed(v));
@@ -168,17 +173,17 @@ pub fn repair_eyelids(
     changes.len()
 }
 
-/// How far `p` lies inside the closed surface `grid` (zero outside):
+/// How far `p` lies inside the closed surface `tree` (zero outside):
 /// along the normal of the closest point's triangle.
-pub fn depth(grid: &TriangleGrid, p: DVec3) -> f64 {
-    inside(grid, p).map_or(0.0, |(c, normal)| (c - p).dot(normal))
+pub fn depth(tree: &TriangleTree, p: DVec3) -> f64 {
+    inside(tree, p).map_or(0.0, |(c, normal)| (c - p).dot(normal))
 }
 
-/// The closest point of `grid` to `p` and its triangle's normal, if `p`
+/// The closest point of `tree` to `p` and its triangle's normal, if `p`
 /// is on the inner side of it.
-fn inside(grid: &TriangleGrid, p: DVec3) -> Option<(DVec3, DVec3)> {
-    let c = grid.closest(p)?;
-    let normal = grid.triangle_normal(c.triangle);
+fn inside(tree: &TriangleTree, p: DVec3) -> Option<(DVec3, DVec3)> {
+    let c = tree.closest(p)?;
+    let normal = tree.triangle_normal(c.triangle);
     ((p - c.point).dot(normal) < 0.0).then_some((c.point, normal))
 }
 

@@ -56,6 +56,7 @@ use crate::geometry::deformation_gradient::{
 };
 use crate::geometry::laplacian::cotangent_lower;
 use crate::geometry::sparse_cholesky::{self, FactorError};
+use crate::personalize::blendshape_fit::in_parallel_map;
 use faer::Mat;
 use faer::linalg::solvers::Solve;
 use faer::sparse::Triplet;
@@ -240,8 +241,11 @@ impl FaceStep {
             .iter()
             .map(|t| RestTriangle::new(t.map(|i| rest[i as usize])))
             .collect();
-        let mut rhs = Mat::<f64>::zeros(n, 3 * shapes);
-        for (j, delta) in deltas.iter().enumerate() {
+        // Shape by shape, shared out between the cores: each shape's right
+        // side of Eq. (7), solved with the one factor.
+        let shape = |j: usize| -> Vec<DVec3> {
+            let delta = deltas[j];
+            let mut rhs = Mat::<f64>::zeros(n, 3);
             let gradients: Vec<DMat3> = mask_triangles
                 .iter()
                 .zip(&rests)
@@ -298,7 +302,7 @@ impl FaceStep {
                 for k in 0..3 {
                     let r = g * hat[k] * a;
                     for axis in 0..3 {
-                        rhs[(t[k] as usize, 3 * j + axis)] += r[axis];
+                        rhs[(t[k] as usize, axis)] += r[axis];
                     }
                 }
             }
@@ -308,18 +312,15 @@ impl FaceStep {
                     .copied()
                     .unwrap_or(DVec3::ZERO);
                 for axis in 0..3 {
-                    rhs[(v, 3 * j + axis)] += self.anchor[v] * target[axis];
+                    rhs[(v, axis)] += self.anchor[v] * target[axis];
                 }
             }
-        }
-        self.llt.solve_in_place(&mut rhs);
-        Ok((0..shapes)
-            .map(|j| {
-                (0..n)
-                    .map(|v| DVec3::new(rhs[(v, 3 * j)], rhs[(v, 3 * j + 1)], rhs[(v, 3 * j + 2)]))
-                    .collect()
-            })
-            .collect())
+            self.llt.solve_in_place(&mut rhs);
+            (0..n)
+                .map(|v| DVec3::new(rhs[(v, 0)], rhs[(v, 1)], rhs[(v, 2)]))
+                .collect()
+        };
+        Ok(in_parallel_map(shapes, shape))
     }
 
     /// The patch vertex of avatar vertex `v`, if it is one.

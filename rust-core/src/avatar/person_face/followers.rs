@@ -35,7 +35,7 @@ use crate::avatar::model::Avatar;
 use crate::avatar::partial_transfer::eyelid_repair::{Eyeball, LID_OFFSET_MM, NEAR_MM, depth};
 use crate::avatar::partial_transfer::rigid_parts::{RIGID_TOLERANCE, rigid_deviation, size};
 use crate::avatar::registration::FaceRegistration;
-use crate::geometry::closest_point::TriangleGrid;
+use crate::geometry::closest_point::TriangleTree;
 use crate::geometry::connected_components::component_vertices;
 use glam::DVec3;
 use std::collections::HashSet;
@@ -168,9 +168,9 @@ pub fn follow_skin(
 
     // The other pieces, in groups of those that touch.
     let pieces: Vec<&Vec<u32>> = pieces.iter().filter(|c| !done[c[0] as usize]).collect();
-    let grids: Vec<TriangleGrid> = pieces
+    let grids: Vec<TriangleTree> = pieces
         .iter()
-        .map(|c| TriangleGrid::new(positions, &avatar.triangles_within(c)))
+        .map(|c| TriangleTree::new(positions, &avatar.triangles_within(c)))
         .collect();
     let touch = TOUCH_MM * to_avatar;
     let mut group: Vec<usize> = (0..pieces.len()).collect();
@@ -216,7 +216,7 @@ pub fn follow_skin(
 
     // Near the skin, a piece that bends stays on it.
     let skin_triangles = avatar.part_triangles(&registration.face_parts());
-    let grid = TriangleGrid::new(positions, &skin_triangles);
+    let grid = TriangleTree::new(positions, &skin_triangles);
     let (hold, free) = (HOLD_MM * to_avatar, FREE_MM * to_avatar);
     let own = avatar.moving_target_displacements();
     for piece in &all_pieces {
@@ -308,7 +308,7 @@ fn push_back(
     backward: DVec3,
     clear: f64,
 ) -> f64 {
-    let stock = TriangleGrid::new(positions, &eyeball.triangles);
+    let stock = TriangleTree::new(positions, &eyeball.triangles);
     let allowed: Vec<f64> = lids
         .iter()
         .map(|&v| depth(&stock, positions[v as usize]))
@@ -321,7 +321,7 @@ fn push_back(
                 placed[v as usize] = fit.apply(positions[v as usize]);
             }
         }
-        let grid = TriangleGrid::new(&placed, &eyeball.triangles);
+        let grid = TriangleTree::new(&placed, &eyeball.triangles);
         let worst = lids
             .iter()
             .zip(&allowed)

@@ -45,7 +45,7 @@ use super::partial_transfer::adjacent_step::within;
 use super::partial_transfer::stay_put::STILL_MM;
 use super::registration::FaceRegistration;
 use super::registration::find_face::FACE_TOLERANCE_MM;
-use crate::geometry::closest_point::TriangleGrid;
+use crate::geometry::closest_point::TriangleTree;
 use consistent_points::{AskedChange, across_the_slit, consistent_points};
 use followers::{EyeFollowed, follow_skin};
 use glam::DVec3;
@@ -248,7 +248,7 @@ pub fn take_face(
         .collect();
     // How far the scanned face is from the new skin, wherever the mask
     // lies on the skin (left out or not): the face a user compares.
-    let new_skin = TriangleGrid::new(&new_positions, &triangles);
+    let new_skin = TriangleTree::new(&new_positions, &triangles);
     let mut surface: Vec<f64> = (0..points.len())
         .filter(|i| points[*i].is_some())
         .filter_map(|i| Some(new_skin.closest(wanted[i])?.distance / to_avatar))

@@ -35,7 +35,7 @@
 use super::lip_sides::LipSides;
 use super::mask_holes::{boundary_edges, hole_rims, mouth_rim};
 use super::nonrigid::MIN_NORMAL_DOT;
-use crate::geometry::closest_point::TriangleGrid;
+use crate::geometry::closest_point::TriangleTree;
 use crate::geometry::one_ring::one_rings;
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
@@ -95,7 +95,7 @@ pub fn correspondence_map(
     tolerance: f64,
     avatar_triangles: &[[u32; 3]],
 ) -> CorrespondenceMap {
-    let grid = TriangleGrid::new(mask, triangles);
+    let grid = TriangleTree::new(mask, triangles);
     let boundary = boundary_edges(triangles);
     let on_outline: HashSet<u32> = boundary.iter().flat_map(|(a, b)| [*a, *b]).collect();
     let rims = hole_rims(mask, &boundary);

@@ -10,7 +10,7 @@
 //! Only the avatar's triangles near the placed mask take part (within
 //! [`REACH`] of the mask's radius of its centre): on a full-body avatar
 //! the hands and feet are never the face, and leaving them out keeps the
-//! closest-point grid fine. Of those, only the triangles seen from in
+//! closest-point search small. Of those, only the triangles seen from in
 //! front of the placed mask take part
 //! ([`crate::geometry::front_visibility`]): the ARKit mask is the surface
 //! a depth camera sees, so teeth behind closed lips, the mouth's lining
@@ -44,7 +44,7 @@ use crate::arkit::{Blendshape, Blendshapes};
 use crate::avatar::model::Avatar;
 use crate::avatar::target_names::arkit_targets;
 use crate::geometry::Topology;
-use crate::geometry::closest_point::TriangleGrid;
+use crate::geometry::closest_point::TriangleTree;
 use crate::geometry::front_visibility::visible_from;
 use glam::DVec3;
 use std::time::Instant;
@@ -251,7 +251,7 @@ pub fn find_face(
         .filter(|((t, _), seen)| *seen && !t.iter().any(|&v| is_eyeball[v as usize]))
         .map(|(t, _)| t)
         .unzip();
-    let skin = TriangleGrid::new(&positions, &skin_triangles);
+    let skin = TriangleTree::new(&positions, &skin_triangles);
 
     // ICP with scale, then non-rigid, the features as landmarks.
     let mask_normals = vertex_normals(rig.neutral(), mask.triangles());
@@ -506,7 +506,7 @@ fn uncovered_region(neutral: &[DVec3], kept: &[bool]) -> String {
 
 /// Version of the registration's rules: part of the cache key, so a cached
 /// result from older rules is never taken for a new one.
-pub const REGISTRATION_VERSION: u32 = 8;
+pub const REGISTRATION_VERSION: u32 = 9;
 
 /// The key a registration is cached under: the rules' version, the
 /// avatar's vertex count and a CRC-32 of everything the registration

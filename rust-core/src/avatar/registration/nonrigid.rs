@@ -44,7 +44,7 @@
 //! [`INITIAL_STIFFNESS`]): they bring eyes to eyes and mouth to mouth
 //! while the mask is stiff and have faded when the fit gets fine.
 
-use crate::geometry::closest_point::TriangleGrid;
+use crate::geometry::closest_point::TriangleTree;
 use crate::geometry::sparse_cholesky::FixedPattern;
 use crate::personalize::blendshape_fit::in_parallel_map;
 use faer::Mat;
@@ -142,7 +142,7 @@ pub struct NonRigidResult {
 pub fn register_nonrigid(
     start: &[DVec3],
     triangles: &[[u32; 3]],
-    target: &TriangleGrid,
+    target: &TriangleTree,
     landmarks: &[Landmark],
 ) -> Option<NonRigidResult> {
     let n = start.len();
@@ -224,7 +224,7 @@ struct Pair {
 fn closest_pairs(
     x: &[DVec3],
     triangles: &[[u32; 3]],
-    target: &TriangleGrid,
+    target: &TriangleTree,
     centre: DVec3,
     radius: f64,
 ) -> Vec<Pair> {
@@ -487,7 +487,7 @@ mod tests {
             let r2 = (p.x - 0.7).powi(2) + (p.y - 0.7).powi(2);
             p.z = 0.2 * (-r2 / 0.08).exp();
         }
-        let target = TriangleGrid::new(&surface, &surface_triangles);
+        let target = TriangleTree::new(&surface, &surface_triangles);
         let result = register_nonrigid(&mask, &triangles, &target, &[]).expect("solves");
         let mean = result.distances.iter().sum::<f64>() / result.distances.len() as f64;
         assert!(mean < 2e-3, "mean distance {mean}");

@@ -35,7 +35,7 @@
 //! there).
 
 use super::similarity::{Similarity, fit_similarity};
-use crate::geometry::closest_point::TriangleGrid;
+use crate::geometry::closest_point::TriangleTree;
 use crate::personalize::blendshape_fit::in_parallel_map;
 use faer::Mat;
 use faer::linalg::solvers::Solve;
@@ -97,7 +97,7 @@ type Pair = (DVec3, DVec3, f64);
 pub fn icp_with_scale(
     mask: &[DVec3],
     normals: &[DVec3],
-    target: &TriangleGrid,
+    target: &TriangleTree,
     initial: Similarity,
     features: &[(DVec3, DVec3)],
     feature_slack: f64,

@@ -192,6 +192,10 @@ impl<'a, 't> SeriesDecoder<'a, 't> {
         self.block.resize(frames * n, 0);
         self.t.clear();
         self.t.resize(frames * n, 0);
+        // `t` is kept value by value (value `j` of frame `f` at
+        // `j * frames + f`): a value's prediction reads its neighbours'
+        // runs of `frames` adjacent numbers, not one number per frame
+        // `n` apart.
         for &j in self.traversal.order() {
             let j = j as usize;
             let (mut p1, mut p2) = (self.prev1[j] as i64, self.prev2[j] as i64);
@@ -199,12 +203,12 @@ impl<'a, 't> SeriesDecoder<'a, 't> {
                 let at = |e: &str| err(first + f, format!("value {j}: {e}"));
                 let mut t = self.reader.varint().map_err(at)?;
                 if spatial {
-                    let prediction = self.traversal.predict(j, &self.t[f * n..(f + 1) * n]);
+                    let prediction = self.traversal.predict_from(j, |p| self.t[p * frames + f]);
                     t = t.checked_add(prediction).ok_or_else(|| at("overflow"))?;
                 }
                 let pred = if second { 2 * p1 - p2 } else { p1 };
                 let q = reconstruct(pred, t).map_err(at)?;
-                self.t[f * n + j] = t;
+                self.t[j * frames + f] = t;
                 self.block[f * n + j] = q;
                 (p2, p1) = (p1, q as i64);
             }

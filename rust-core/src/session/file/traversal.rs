@@ -138,13 +138,31 @@ impl Traversal {
     /// rounded mean of its earlier neighbours' values, or 0 if it has none.
     #[inline]
     pub fn predict(&self, j: usize, values: &[i64]) -> i64 {
+        self.predict_from(j, |p| values[p])
+    }
+
+    /// [`Traversal::predict`] with value `p` of the frame read by `value`
+    /// (the decoder keeps a block's values value by value).
+    #[inline]
+    pub fn predict_from(&self, j: usize, value: impl Fn(usize) -> i64) -> i64 {
         let earlier = self.earlier(j);
         match earlier.len() {
             0 => 0,
-            1 => values[earlier[0] as usize],
+            1 => value(earlier[0] as usize),
             m => {
-                let sum: i64 = earlier.iter().map(|&p| values[p as usize]).sum();
-                (2 * sum + m as i64).div_euclid(2 * m as i64)
+                let sum: i64 = earlier.iter().map(|&p| value(p as usize)).sum();
+                let twice = 2 * sum + m as i64;
+                // The usual counts spelled out, so that each division is by
+                // a constant (a multiply and a shift, not a hardware
+                // divide); the same result either way.
+                match m {
+                    2 => twice.div_euclid(4),
+                    3 => twice.div_euclid(6),
+                    4 => twice.div_euclid(8),
+                    5 => twice.div_euclid(10),
+                    6 => twice.div_euclid(12),
+                    _ => twice.div_euclid(2 * m as i64),
+                }
             }
         }
     }

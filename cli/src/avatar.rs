@@ -86,10 +86,15 @@ struct Summary {
     registration_seconds: f64,
     retarget_weight_min: f64,
     retarget_weight_max: f64,
+    /// `‖G w̃_j − M B_j‖ / ‖M B_j‖` at its largest: huge where a shape
+    /// hardly moves the person's face (tongueOut) but the avatar's own
+    /// target of that name moves its skin a little.
     retarget_worst_relative_residual: f64,
     /// The same with the person's motion floored at 1 mm RMS: what the
-    /// check compares with its limit.
+    /// check compares with its limit, and the CLI prints.
     retarget_worst_floored_residual: f64,
+    /// The shape of that worst floored residual.
+    retarget_worst_shape: String,
     /// Shapes past a limit of the check of the output (each also a
     /// warning).
     checked_faults: usize,
@@ -204,6 +209,17 @@ fn default_cache_dir() -> PathBuf {
         .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache")))
         .unwrap_or_else(std::env::temp_dir)
         .join("likeness")
+}
+
+/// The ARKit name of the shape whose residual is largest (Apple's order),
+/// empty for no shapes.
+fn worst_shape(residuals: &[f64]) -> String {
+    residuals
+        .iter()
+        .enumerate()
+        .max_by(|a, b| a.1.total_cmp(b.1))
+        .and_then(|(j, _)| likeness::arkit::Blendshape::ALL.get(j))
+        .map_or(String::new(), |b| b.name().to_string())
 }
 
 /// Runs `likeness avatar`.
@@ -387,6 +403,7 @@ pub fn avatar_command(args: &AvatarArgs) -> CliResult {
             .iter()
             .copied()
             .fold(0.0, f64::max),
+        retarget_worst_shape: worst_shape(&retargeting.floored_residual),
         checked_faults: made
             .warnings
             .iter()
@@ -518,8 +535,11 @@ fn print_summary(s: &Summary) {
     );
     println!("Parts: {}", parts_line(&s.parts));
     println!(
-        "Retargeting (Eq. 4, weights bounded to [0, 1]): {:.3} … {:.3}; worst relative residual {:.3}",
-        s.retarget_weight_min, s.retarget_weight_max, s.retarget_worst_relative_residual
+        "Retargeting (Eq. 4, weights bounded to [0, 1]): {:.3} … {:.3}; worst residual {:.2} of the person's motion ({}; motion under 1 mm counted as 1 mm)",
+        s.retarget_weight_min,
+        s.retarget_weight_max,
+        s.retarget_worst_floored_residual,
+        s.retarget_worst_shape
     );
     println!(
         "Wrote {} ({:.1} MB): {}",

@@ -68,6 +68,16 @@ fn a_session_onto_a_user_avatar_gives_a_glb_a_map_and_a_summary() {
         step("total") >= step("read_session") + after_reading,
         "{seconds}"
     );
+    // The residual printed is the floored one, with its shape.
+    let worst = v["retarget_worst_shape"].as_str().unwrap_or_default();
+    assert!(
+        likeness::arkit::Blendshape::parse(worst).is_ok(),
+        "{worst:?}"
+    );
+    let floored = v["retarget_worst_floored_residual"].as_f64().unwrap();
+    let relative = v["retarget_worst_relative_residual"].as_f64().unwrap();
+    // The floor only ever lowers a residual (every shape moves the face).
+    assert!(floored.is_finite() && floored <= relative, "{v}");
     // An avatar the user brings keeps its own face unless asked.
     assert_eq!(v["rest_face"], "stock", "{v}");
     assert_eq!(v["face_fit_mm"], serde_json::Value::Null, "{v}");

@@ -5,19 +5,22 @@
 
 use crate::CliResult;
 use crate::avatar_preview::PreviewInput;
-use crate::info::read_session;
-use likeness::Session;
+use crate::info::read_session_template_first;
 use likeness::avatar::glb::{GlbAvatar, new_avatar_glb, read_avatar, read_avatar_bytes};
 use likeness::avatar::personal_avatar::{
     AvatarShapes, AvatarStep, AvatarWarning, PersonInput, PersonalAvatar, RestFace, mask_glb,
     personal_avatar, retarget_map_json,
 };
+use likeness::avatar::registration::FaceRegistration;
 use likeness::avatar::registration::cache;
-use likeness::avatar::registration::find_face::cache_key;
+use likeness::avatar::registration::find_face::{cache_key, find_face};
+use likeness::geometry::topology::Topology;
 use likeness::io::atomic_write::write_atomically;
 use likeness::personalize::{Method, personalize};
+use likeness::session::{Session, Template};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
+use std::sync::mpsc::Receiver;
 use std::time::Instant;
 
 /// What `likeness avatar` was asked to do.
@@ -135,8 +138,9 @@ struct PreviewSummary {
 #[derive(Serialize, Default)]
 struct Timings {
     /// The whole command from its start to the file written (before any
-    /// preview): the avatar is read while the session is, so this is less
-    /// than the sum of the steps.
+    /// preview): the avatar is read, and its face found, while the session
+    /// is read and personalized, so this is less than the sum of the
+    /// steps.
     total: f64,
     read_session: f64,
     personalize: f64,
@@ -222,6 +226,46 @@ fn worst_shape(residuals: &[f64]) -> String {
         .map_or(String::new(), |b| b.name().to_string())
 }
 
+/// What the avatar's thread prepares while the session is read: the avatar,
+/// how long reading it took, and the face found on it for the session's
+/// template, if it could be.
+struct Prepared {
+    glb: GlbAvatar,
+    read_seconds: f64,
+    face: Option<EarlyFace>,
+}
+
+/// A face found on the avatar before the person is known.
+struct EarlyFace {
+    registration: FaceRegistration,
+    /// Read from the cache, not found anew.
+    cached: bool,
+}
+
+/// The face on `glb` for a session of mask `mask` and template `template`:
+/// from the cache in `dir` if it holds it, else found now; `None` where it
+/// cannot be found (the avatar stage then looks again and says why).
+fn early_face(
+    glb: &GlbAvatar,
+    mask: &Topology,
+    template: &Template,
+    dir: &Path,
+) -> Option<EarlyFace> {
+    let rig = template.blendshapes().ok()?;
+    let key = cache_key(&glb.avatar, &rig);
+    if let Some(registration) = cache::load(dir, &key, &glb.avatar, mask.vertex_count()) {
+        return Some(EarlyFace {
+            registration,
+            cached: true,
+        });
+    }
+    let registration = find_face(&glb.avatar, mask, &rig).ok()?;
+    Some(EarlyFace {
+        registration,
+        cached: false,
+    })
+}
+
 /// Runs `likeness avatar`.
 pub fn avatar_command(args: &AvatarArgs) -> CliResult {
     let started = Instant::now();
@@ -230,40 +274,63 @@ pub fn avatar_command(args: &AvatarArgs) -> CliResult {
         crate::avatar_preview::check_dir(dir)?;
     }
     let steps = crate::progress::bar("avatar", 5);
+    let dir = args.cache_dir.clone().unwrap_or_else(default_cache_dir);
     // The avatar is read (or the default one built) on its own thread
-    // while the session is read and personalized: neither needs the other.
-    let read = || -> Result<(GlbAvatar, f64), String> {
+    // while the session is read and personalized; as soon as the session's
+    // template is decoded, the same thread finds the face on the avatar
+    // (or reads it from the cache). Neither needs the person.
+    let prepare = |template: Receiver<(Topology, Template)>| -> Result<Prepared, String> {
         let clock = Instant::now();
         let glb = match &args.avatar {
             Some(path) => read_avatar(path).map_err(|e| e.to_string())?,
             None => default_glb().map_err(|e| e.to_string())?,
         };
-        Ok((glb, clock.elapsed().as_secs_f64()))
+        let read_seconds = clock.elapsed().as_secs_f64();
+        // No template (the session failed before it): nothing to find.
+        // A face not found here is looked for again by `personal_avatar`,
+        // which reports why.
+        let face = template
+            .recv()
+            .ok()
+            .and_then(|(mask, template)| early_face(&glb, &mask, &template, &dir));
+        Ok(Prepared {
+            glb,
+            read_seconds,
+            face,
+        })
     };
-    let (session, personalized, glb) =
+    let (session, personalized, prepared) =
         std::thread::scope(|scope| -> Result<_, Box<dyn std::error::Error>> {
-            let reading = (!args.mask_only).then(|| scope.spawn(read));
+            let (send_template, template) = std::sync::mpsc::channel();
+            let reading = (!args.mask_only).then(|| scope.spawn(move || prepare(template)));
             let clock = Instant::now();
-            let session = read_session(&args.session)?;
+            let session = read_session_template_first(&args.session, |mask, template| {
+                // The thread may have ended (an avatar that cannot be
+                // read): it then has no use for the template.
+                let _ = send_template.send((mask.clone(), template.clone()));
+            });
+            // The thread waits for the template until this sender goes.
+            drop(send_template);
+            let session = session?;
             t.read_session = clock.elapsed().as_secs_f64();
             steps.inc(1);
             let clock = Instant::now();
             let personalized = personalize(&session, args.method)?;
             t.personalize = clock.elapsed().as_secs_f64();
             steps.inc(1);
-            let glb = match reading {
+            let prepared = match reading {
                 Some(reading) => {
-                    let (glb, seconds) = reading
+                    let prepared = reading
                         .join()
                         .unwrap_or_else(|e| std::panic::resume_unwind(e))?;
-                    t.read_avatar = seconds;
-                    Some(glb)
+                    t.read_avatar = prepared.read_seconds;
+                    Some(prepared)
                 }
                 None => None,
             };
-            Ok((session, personalized, glb))
+            Ok((session, personalized, prepared))
         })?;
-    let Some(glb) = glb else {
+    let Some(Prepared { glb, face, .. }) = prepared else {
         steps.finish_and_clear();
         return write_mask(&session, &personalized.shapes, &args.out);
     };
@@ -271,10 +338,10 @@ pub fn avatar_command(args: &AvatarArgs) -> CliResult {
 
     let clock = Instant::now();
     let rig = session.template.blendshapes()?;
-    let dir = args.cache_dir.clone().unwrap_or_else(default_cache_dir);
     let key = cache_key(&glb.avatar, &rig);
-    let cached = cache::load(&dir, &key, &glb.avatar, session.topology.vertex_count());
-    let was_cached = cached.is_some();
+    let was_cached = face.as_ref().is_some_and(|f| f.cached);
+    let found_early = face.as_ref().map(|f| f.registration.seconds);
+    let cached = face.map(|f| f.registration);
     let person = PersonInput {
         mask: &session.topology,
         rig: &rig,
@@ -300,7 +367,10 @@ pub fn avatar_command(args: &AvatarArgs) -> CliResult {
             (next - marks[i].1).as_secs_f64()
         })
     };
-    t.registration = step_seconds(AvatarStep::FindingFace);
+    t.registration = match (was_cached, found_early) {
+        (false, Some(seconds)) => seconds,
+        _ => step_seconds(AvatarStep::FindingFace),
+    };
     t.take_face = step_seconds(AvatarStep::TakingFace);
     t.retargeting = step_seconds(AvatarStep::Retargeting);
     t.implant = step_seconds(AvatarStep::Implanting);
@@ -590,7 +660,7 @@ fn print_summary(s: &Summary) {
     }
     let t = &s.seconds;
     println!(
-        "Time: {:.2} s in all; session {:.2} s, personalize ({}) {:.2} s, avatar {:.2} s (while the session is read), registration {:.2} s, face {:.2} s, retargeting {:.3} s, implant {:.2} s, write {:.2} s",
+        "Time: {:.2} s in all; session {:.2} s, personalize ({}) {:.2} s, avatar {:.2} s and registration {:.2} s (while the session is read), face {:.2} s, retargeting {:.3} s, implant {:.2} s, write {:.2} s",
         t.total,
         t.read_session,
         s.method,

@@ -2,6 +2,8 @@
 
 use crate::CliResult;
 use likeness::Session;
+use likeness::geometry::topology::Topology;
+use likeness::session::Template;
 use likeness::session::file as session_file;
 use serde::Serialize;
 use std::path::Path;
@@ -144,7 +146,17 @@ pub fn info(file: &Path, json: bool) -> CliResult {
 
 /// Reads a session file; every error names the file.
 pub fn read_session(file: &Path) -> Result<Session, Box<dyn std::error::Error>> {
-    session_file::read(file).map_err(|e| match e {
+    read_session_template_first(file, |_, _| ())
+}
+
+/// [`read_session`], calling `early` with the mask's topology and the
+/// template as soon as they are decoded
+/// ([`session_file::read_template_first`]).
+pub fn read_session_template_first(
+    file: &Path,
+    early: impl FnOnce(&Topology, &Template),
+) -> Result<Session, Box<dyn std::error::Error>> {
+    session_file::read_template_first(file, early).map_err(|e| match e {
         session_file::SessionFileError::Io { .. } | session_file::SessionFileError::File(_) => {
             e.into()
         }

@@ -22,8 +22,13 @@ use glam::Vec3;
 
 /// Decodes and validates a payload: the wire structure, the topology, the
 /// template, the neutral scan, the stream, the expressions and the ground
-/// truth, in that order, then the session's own checks.
-pub(super) fn decode_payload(payload: &[u8]) -> Result<Session, SessionFileError> {
+/// truth, in that order, then the session's own checks. `early` is called
+/// with the topology and the template as soon as both are decoded (before
+/// the session's own checks, which may still refuse the file).
+pub(super) fn decode_payload(
+    payload: &[u8],
+    early: impl FnOnce(&Topology, &Template),
+) -> Result<Session, SessionFileError> {
     if payload.len() > MAX_PAYLOAD_BYTES {
         let limit = (Limit::PayloadBytes, payload.len() as u64);
         return Err(SessionFileError::too_large("payload", limit));
@@ -35,6 +40,7 @@ pub(super) fn decode_payload(payload: &[u8]) -> Result<Session, SessionFileError
     let template_neutral_q =
         decode_mesh("template.neutral", wire.template_neutral, None, &traversal)?;
     let template = decode_template(&wire, &template_neutral_q, &traversal)?;
+    early(&topology, &template);
     let neutral_q = decode_mesh("neutral", wire.neutral, None, &traversal)?;
     let frames = decode_frames(&wire.frames, &neutral_q, &traversal)?;
     let captures = decode_captures(&wire, &neutral_q, &traversal)?;

@@ -113,9 +113,10 @@ pub use limits::{
     MAX_PAYLOAD_BYTES, MAX_VERTICES,
 };
 
+use crate::geometry::topology::Topology;
 use crate::io::atomic_write::write_atomically;
 use crate::io::{FileError, open_bounded};
-use crate::session::Session;
+use crate::session::{Session, Template};
 use header::Header;
 use std::io::Read;
 use std::path::Path;
@@ -177,15 +178,19 @@ fn seal(payload: &[u8]) -> Result<Vec<u8>, SessionFileError> {
 pub fn decode(bytes: &[u8]) -> Result<Session, SessionFileError> {
     let header = header::parse(&bytes[..bytes.len().min(HEADER_LEN)], bytes.len() as u64)?;
     // Indexing: the header checked that exactly `compressed_len` bytes follow it.
-    open_payload(&header, &bytes[HEADER_LEN..])
+    open_payload(&header, &bytes[HEADER_LEN..], |_, _| ())
 }
 
 /// The session in a compressed payload that `header` describes: checksum,
 /// inflate, decode.
-fn open_payload(header: &Header, compressed: &[u8]) -> Result<Session, SessionFileError> {
+fn open_payload(
+    header: &Header,
+    compressed: &[u8],
+    early: impl FnOnce(&Topology, &Template),
+) -> Result<Session, SessionFileError> {
     header.check_crc(compressed)?;
     let payload = inflate(compressed, header.payload_len)?;
-    decode::decode_payload(&payload)
+    decode::decode_payload(&payload, early)
 }
 
 /// Encodes `session` and writes it to `path` atomically: a crash leaves
@@ -205,6 +210,19 @@ pub fn write(path: impl AsRef<Path>, session: &Session) -> Result<(), SessionFil
 /// header declares is read. I/O errors name the path; errors in the
 /// contents are returned as [`decode()`] gives them.
 pub fn read(path: impl AsRef<Path>) -> Result<Session, SessionFileError> {
+    read_template_first(path, |_, _| ())
+}
+
+/// [`read`], calling `early` with the mask's topology and the template as
+/// soon as they are decoded, before the stream, the captures and the
+/// session's own checks: the avatar stage finds the face on the avatar
+/// (which needs only those) on another thread while the rest is decoded.
+/// `early` is not called where the file fails before its template; it may
+/// be called for a file the session's checks then refuse.
+pub fn read_template_first(
+    path: impl AsRef<Path>,
+    early: impl FnOnce(&Topology, &Template),
+) -> Result<Session, SessionFileError> {
     let path = path.as_ref();
     let io = |e| SessionFileError::File(FileError::io(path, e));
     // No size limit here: a file too large is refused from its header, whose
@@ -230,7 +248,7 @@ pub fn read(path: impl AsRef<Path>) -> Result<Session, SessionFileError> {
         );
         return Err(SessionFileError::corrupt("file", reason));
     }
-    open_payload(&header, &compressed)
+    open_payload(&header, &compressed, early)
 }
 
 fn deflate(data: &[u8]) -> Result<Vec<u8>, SessionFileError> {

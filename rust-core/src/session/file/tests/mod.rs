@@ -233,6 +233,32 @@ fn files_are_written_atomically_and_read_back() {
 }
 
 #[test]
+fn the_template_comes_first_and_once_and_not_from_a_file_broken_before_it() {
+    let dir = std::env::temp_dir().join(format!("likeness-template-first-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("s.likeness");
+    let session = small_session();
+    write(&path, &session).unwrap();
+    let mut early: Vec<(Topology, Template)> = Vec::new();
+    let read_back = read_template_first(&path, |t, m| early.push((t.clone(), m.clone()))).unwrap();
+    assert_eq!(early.len(), 1);
+    assert_eq!(
+        early[0],
+        (read_back.topology.clone(), read_back.template.clone())
+    );
+    // A file whose payload is damaged fails its checksum before anything
+    // is decoded: no template is announced.
+    let mut bytes = std::fs::read(&path).unwrap();
+    let last = bytes.len() - 1;
+    bytes[last] ^= 0xff;
+    std::fs::write(&path, &bytes).unwrap();
+    let mut called = false;
+    assert!(read_template_first(&path, |_, _| called = true).is_err());
+    assert!(!called);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
 fn an_invalid_session_cannot_be_made_and_an_unstorable_one_is_not_written() {
     let mut s = small_session().into_parts();
     s.frame_rate = 0.0;

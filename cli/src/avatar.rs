@@ -240,6 +240,8 @@ struct EarlyFace {
     registration: FaceRegistration,
     /// Read from the cache, not found anew.
     cached: bool,
+    /// The key it is cached under ([`cache_key`]).
+    key: String,
 }
 
 /// The face on `glb` for a session of mask `mask` and template `template`:
@@ -257,12 +259,14 @@ fn early_face(
         return Some(EarlyFace {
             registration,
             cached: true,
+            key,
         });
     }
     let registration = find_face(&glb.avatar, mask, &rig).ok()?;
     Some(EarlyFace {
         registration,
         cached: false,
+        key,
     })
 }
 
@@ -338,10 +342,16 @@ pub fn avatar_command(args: &AvatarArgs) -> CliResult {
 
     let clock = Instant::now();
     let rig = session.template.blendshapes()?;
-    let key = cache_key(&glb.avatar, &rig);
     let was_cached = face.as_ref().is_some_and(|f| f.cached);
-    let found_early = face.as_ref().map(|f| f.registration.seconds);
-    let cached = face.map(|f| f.registration);
+    // Found (not read from the cache) while the session was read.
+    let found_early = face
+        .as_ref()
+        .filter(|f| !f.cached)
+        .map(|f| f.registration.seconds);
+    let (key, cached) = match face {
+        Some(f) => (f.key, Some(f.registration)),
+        None => (cache_key(&glb.avatar, &rig), None),
+    };
     let person = PersonInput {
         mask: &session.topology,
         rig: &rig,
@@ -367,10 +377,7 @@ pub fn avatar_command(args: &AvatarArgs) -> CliResult {
             (next - marks[i].1).as_secs_f64()
         })
     };
-    t.registration = match (was_cached, found_early) {
-        (false, Some(seconds)) => seconds,
-        _ => step_seconds(AvatarStep::FindingFace),
-    };
+    t.registration = found_early.unwrap_or_else(|| step_seconds(AvatarStep::FindingFace));
     t.take_face = step_seconds(AvatarStep::TakingFace);
     t.retargeting = step_seconds(AvatarStep::Retargeting);
     t.implant = step_seconds(AvatarStep::Implanting);

@@ -44,10 +44,9 @@ pub struct Eyeball {
     /// it was made over, increasing.
     pub vertices: Vec<u32>,
     /// Those of its triangles, in order, over `vertices` (indices into
-    /// it).
-    pub local: Vec<[u32; 3]>,
-    /// The tree of `local` over the eyeball's rest positions: moved to a
-    /// shape's, it finds the eyeball's closest points in that shape.
+    /// it; [`TriangleTree::triangles`]), at its rest positions: moved to a
+    /// shape's ([`TriangleTree::moved_to`]), it finds the eyeball's
+    /// closest points in that shape.
     pub tree: TriangleTree,
 }
 
@@ -87,7 +86,6 @@ impl Eyeball {
             centre,
             radius,
             vertices,
-            local,
             tree,
         }
     }
@@ -143,9 +141,13 @@ pub fn repair_eyelids(
             vertices.iter().map(|&v| place(v as usize)).collect()
         };
         let grid = tree.moved_to(&on(&posed));
+        let own_tree;
         let allowed_by = match own.is_empty() {
-            true => tree.clone(),
-            false => tree.moved_to(&on(&own_posed)),
+            true => tree,
+            false => {
+                own_tree = tree.moved_to(&on(&own_posed));
+                &own_tree
+            }
         };
         for v in looked_at {
             let (p0, p) = (rest[v], posed(v));
@@ -154,8 +156,8 @@ pub fn repair_eyelids(
             // a rig's cornea shell, or left behind a turned eyeball, is the
             // rig's choice, not a lid passing through.
             let allowed = match own.is_empty() {
-                true => depth(&allowed_by, p0),
-                false => depth(&allowed_by, own_posed(v)),
+                true => depth(allowed_by, p0),
+                false => depth(allowed_by, own_posed(v)),
             };
             if let Some((point, normal)) = inside(&grid, p) {
                 let deeper = (point - p).dot(normal);
@@ -279,8 +281,11 @@ mod tests {
         padded.extend(&rest);
         let eyeball = Eyeball::new(&padded, shifted.clone());
         assert_eq!(eyeball.vertices, (10..18).collect::<Vec<u32>>());
-        assert_eq!(eyeball.local, triangles);
+        assert_eq!(eyeball.tree.triangles(), &triangles[..]);
         // A triangle past the positions given is left out.
-        assert_eq!(Eyeball::new(&padded[..17], shifted).local.len(), 6);
+        assert_eq!(
+            Eyeball::new(&padded[..17], shifted).tree.triangles().len(),
+            6
+        );
     }
 }

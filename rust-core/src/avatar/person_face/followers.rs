@@ -308,20 +308,19 @@ fn push_back(
     backward: DVec3,
     clear: f64,
 ) -> f64 {
-    let stock = TriangleTree::new(positions, &eyeball.triangles);
+    // The eyeball was made over `positions`: its tree is the stock one.
     let allowed: Vec<f64> = lids
         .iter()
-        .map(|&v| depth(&stock, positions[v as usize]))
+        .map(|&v| depth(&eyeball.tree, positions[v as usize]))
         .collect();
-    let mut placed = positions.to_vec();
     let mut total = 0.0;
     for _ in 0..PUSH_ROUNDS {
-        for t in &eyeball.triangles {
-            for &v in t {
-                placed[v as usize] = fit.apply(positions[v as usize]);
-            }
-        }
-        let grid = TriangleTree::new(&placed, &eyeball.triangles);
+        let placed: Vec<DVec3> = eyeball
+            .vertices
+            .iter()
+            .map(|&v| fit.apply(positions[v as usize]))
+            .collect();
+        let grid = eyeball.tree.moved_to(&placed);
         let worst = lids
             .iter()
             .zip(&allowed)

@@ -215,13 +215,21 @@ fn decoded_positions_are_within_five_micrometres() {
     }
 }
 
-#[test]
-fn files_are_written_atomically_and_read_back() {
-    let dir = std::env::temp_dir().join(format!("likeness-session-file-{}", std::process::id()));
+/// [`small_session`] written to `s.likeness` in a new folder of the
+/// temporary directory named after `test`: the folder, the file, the
+/// session.
+fn written_small_session(test: &str) -> (std::path::PathBuf, std::path::PathBuf, Session) {
+    let dir = std::env::temp_dir().join(format!("likeness-{test}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("s.likeness");
     let session = small_session();
     write(&path, &session).unwrap();
+    (dir, path, session)
+}
+
+#[test]
+fn files_are_written_atomically_and_read_back() {
+    let (dir, path, session) = written_small_session("session-file");
     assert_eq!(read(&path).unwrap(), quantized(&session));
     std::fs::remove_dir_all(&dir).unwrap();
     let err = read(&path).unwrap_err();
@@ -234,11 +242,7 @@ fn files_are_written_atomically_and_read_back() {
 
 #[test]
 fn the_template_comes_first_and_once_and_not_from_a_file_broken_before_it() {
-    let dir = std::env::temp_dir().join(format!("likeness-template-first-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("s.likeness");
-    let session = small_session();
-    write(&path, &session).unwrap();
+    let (dir, path, _) = written_small_session("template-first");
     let mut early: Vec<(Topology, Template)> = Vec::new();
     let read_back = read_template_first(&path, |t, m| early.push((t.clone(), m.clone()))).unwrap();
     assert_eq!(early.len(), 1);

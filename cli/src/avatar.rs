@@ -484,7 +484,7 @@ pub fn avatar_command(args: &AvatarArgs) -> CliResult {
         checked_faults: made
             .warnings
             .iter()
-            .filter(|w| matches!(w, AvatarWarning::Fault(_) | AvatarWarning::RestFolded(_)))
+            .filter(|w| matches!(w, AvatarWarning::Fault(_) | AvatarWarning::RestCreased(_)))
             .count(),
         implant_face_vertices: implanted.as_ref().map_or(0, |i| i.face_vertices),
         implant_adjacent_vertices: implanted.as_ref().map_or(0, |i| i.adjacent_vertices),

@@ -1,7 +1,8 @@
 //! Finding the face and Eq. (4) on the default avatar (22,077 vertices in
 //! six meshes, 52 targets), and finding the face on every generated test
 //! avatar (`likeness_sim::avatar_variants`) and, when present, on
-//! `../shared/avatars/ict-facekit.glb`: `cargo bench -p likeness-tests
+//! `../shared/avatars/ict-facekit.glb`, and on ARKit's own mesh when
+//! `../shared/arkit-face/` is there: `cargo bench -p likeness-tests
 //! --bench avatar`. Measures; asserts nothing.
 
 use criterion::{Criterion, criterion_group, criterion_main};
@@ -32,6 +33,24 @@ fn avatar(c: &mut Criterion) {
     group.bench_function("find_face (22k-vertex default avatar)", |b| {
         b.iter(|| find_face(black_box(&built.avatar), mask, &rig).expect("a face"))
     });
+    // ARKit's own mesh and template, as a real iPhone sends them: its
+    // mask wraps round the cheeks, so the fit takes more steps.
+    match likeness_sim::arkit_face::shared_arkit_face() {
+        Some(face) => {
+            let basis = likeness_sim::face_basis::FaceBasis::Arkit(face);
+            let arkit_rig = basis.template().blendshapes().expect("a checked template");
+            let arkit_mask = &basis.mask().topology;
+            group.bench_function("find_face on ARKit's mesh (default avatar)", |b| {
+                b.iter(|| {
+                    find_face(black_box(&built.avatar), arkit_mask, &arkit_rig).expect("a face")
+                })
+            });
+        }
+        None => eprintln!(
+            "skipping find_face on ARKit's mesh: no {}",
+            likeness_sim::arkit_face::shared_arkit_face_dir().display()
+        ),
+    }
     let found = find_face(&built.avatar, mask, &rig).expect("a face");
     group.bench_function("retarget, Eq. (4), 52 shapes", |b| {
         b.iter(|| retarget(black_box(&built.avatar), &found, &rig).expect("solves"))

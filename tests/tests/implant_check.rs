@@ -5,9 +5,9 @@
 use glam::{DVec3, Vec3};
 use likeness::Blendshape;
 use likeness::avatar::glb::read::{GlbAvatar, read_avatar_bytes};
-use likeness::avatar::implant_check::{FOLDED_SHARE, Fault, check_shapes, head_triangles};
+use likeness::avatar::implant_check::{Fault, check_shapes, head_edges, head_triangles};
 use likeness::avatar::personal_avatar::{AvatarWarning, PersonalAvatar};
-use likeness::avatar::rest_check::{rest_folds, rest_spike};
+use likeness::avatar::rest_check::{REST_CREASE_SHARE, rest_creases, rest_spike};
 
 fn default_glb() -> GlbAvatar {
     let bytes = likeness_sim::default_avatar::default_avatar_glb().expect("builds");
@@ -199,7 +199,7 @@ fn a_face_that_creases_the_skin_at_rest_is_found() {
     let made = subject_1_with_face(&glb);
     let taken = made.taken_face.as_ref().expect("the person's face");
     let found = &made.registration;
-    assert_eq!(rest_folds(&glb.avatar, found, &taken.moved), None);
+    assert_eq!(rest_creases(&glb.avatar, found, &taken.moved), None);
     // Crumple the head's skin round one point of the face: 1.5 mm in and
     // out on alternate vertices, where the skin's triangles are 1–2 mm.
     let rest = glb.avatar.positions();
@@ -214,11 +214,34 @@ fn a_face_that_creases_the_skin_at_rest_is_found() {
             moved[v] += forward * (sign * 1.5 * mm);
         }
     }
-    let folds = rest_folds(&glb.avatar, found, &moved).expect("creases");
-    assert!(folds.triangles > folds.limit, "{folds:?}");
+    let creases = rest_creases(&glb.avatar, found, &moved).expect("creases");
+    assert!(creases.edges > creases.limit, "{creases:?}");
     assert_eq!(
-        folds.limit,
-        (FOLDED_SHARE * triangles.len() as f64).floor() as usize
+        creases.limit,
+        (REST_CREASE_SHARE * head_edges(&glb.avatar, found).len() as f64).floor() as usize
     );
-    assert!(folds.to_string().contains("keeps its own face"), "{folds}");
+    assert!(
+        creases.to_string().contains("keeps its own face"),
+        "{creases}"
+    );
+    // A smooth new shape is no crease, however far it turns the skin: a
+    // bump 20 mm high and 8 mm wide (σ) at the same place turns the skin
+    // round it by up to 57°.
+    let mut bump = taken.moved.clone();
+    for (v, p) in rest.iter().enumerate() {
+        let r = f64::from((*p - centre).length()) / mm;
+        bump[v] += forward * (20.0 * mm * (-r * r / (2.0 * 8.0 * 8.0)).exp());
+    }
+    let turned = triangles
+        .iter()
+        .filter(|t| {
+            let normal = |d: &[DVec3]| {
+                let [a, b, c] = t.map(|v| rest[v as usize].as_dvec3() + d[v as usize]);
+                (b - a).cross(c - a)
+            };
+            normal(&taken.moved).angle_between(normal(&bump)) > std::f64::consts::FRAC_PI_4
+        })
+        .count();
+    assert!(turned > 50, "{turned} triangles turned past 45°");
+    assert_eq!(rest_creases(&glb.avatar, found, &bump), None);
 }

@@ -19,7 +19,7 @@ use super::model::{Avatar, AvatarMesh, AvatarPart};
 use super::partial_transfer::{ImplantError, Implanted, implant};
 use super::person_face::{TakeFaceError, TakenFace, take_face};
 use super::registration::{FaceRegistration, RegistrationError, find_face};
-use super::rest_check::{RestFolds, RestSpike, rest_folds, rest_spike};
+use super::rest_check::{RestCreases, RestSpike, rest_creases, rest_spike};
 use super::retargeting::{NEGLIGIBLE, RetargetError, Retargeting, retarget};
 use super::target_names::ArkitTargets;
 use crate::arkit::{Blendshape, Blendshapes};
@@ -142,9 +142,9 @@ pub enum AvatarWarning {
     /// ([`super::implant_check`]): it is written, and still animates.
     Fault(Fault),
     /// Taking the person's face would have creased the skin at rest
-    /// ([`super::rest_check::rest_folds`]): the avatar kept its own
+    /// ([`super::rest_check::rest_creases`]): the avatar kept its own
     /// face.
-    RestFolded(RestFolds),
+    RestCreased(RestCreases),
 }
 
 impl fmt::Display for AvatarWarning {
@@ -169,7 +169,7 @@ impl fmt::Display for AvatarWarning {
                 "no teeth found (no piece of a mesh that jawOpen moves rigidly): the mouth's inside follows the retargeted shapes as they are",
             ),
             AvatarWarning::Fault(fault) => fault.fmt(f),
-            AvatarWarning::RestFolded(folds) => folds.fmt(f),
+            AvatarWarning::RestCreased(creases) => creases.fmt(f),
         }
     }
 }
@@ -349,9 +349,9 @@ pub fn personal_avatar(
             }
             // A face the skin cannot take without creasing is not taken:
             // the avatar keeps its own, and the person's motion.
-            match rest_folds(avatar, &registration, &taken.moved) {
-                Some(folds) => {
-                    warnings.push(AvatarWarning::RestFolded(folds));
+            match rest_creases(avatar, &registration, &taken.moved) {
+                Some(creases) => {
+                    warnings.push(AvatarWarning::RestCreased(creases));
                     None
                 }
                 None => Some(taken),

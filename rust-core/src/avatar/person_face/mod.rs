@@ -46,6 +46,7 @@ use super::partial_transfer::stay_put::STILL_MM;
 use super::registration::FaceRegistration;
 use super::registration::find_face::FACE_TOLERANCE_MM;
 use crate::geometry::closest_point::TriangleTree;
+use crate::geometry::one_ring::one_rings;
 use consistent_points::{AskedChange, across_the_slit, consistent_points};
 use followers::{EyeFollowed, follow_skin};
 use glam::DVec3;
@@ -190,11 +191,24 @@ pub fn take_face(
         .into_iter()
         .filter(|&i| !across_the_slit(lips.lips_of_vertex(i as u32), point_lip(i)))
         .collect();
+    let rings = one_rings(n, &triangles);
+    let patch = |t: [u32; 3]| {
+        let mut near: Vec<u32> = t
+            .iter()
+            .flat_map(|v| rings.get(v).into_iter().flatten().copied().chain([*v]))
+            .collect();
+        near.sort_unstable();
+        near.dedup();
+        near
+    };
     let asked: Vec<AskedChange> = on_skin
         .iter()
-        .map(|&i| {
-            let p = at(&points[i], &positions).unwrap_or(registration.mask_on_avatar[i]);
-            (p, change_at_mask[i], lips.lips_of_vertex(i as u32))
+        .map(|&i| AskedChange {
+            at: at(&points[i], &positions).unwrap_or(registration.mask_on_avatar[i]),
+            change: change_at_mask[i],
+            lips: lips.lips_of_vertex(i as u32),
+            skin_lips: point_lip(i),
+            patch: points[i].map(|(t, _)| patch(t)).unwrap_or_default(),
         })
         .collect();
     let mut kept = vec![false; points.len()];

@@ -36,7 +36,8 @@ pub const REST_OVERSHOOT: f64 = 1.5;
 /// people, up to 13 mm from the stock one, crease 0–2 of the default
 /// avatar's edges. A crease turns one row of edges sharply: on ARKit's
 /// mesh the mask's outline, the lid margins and the nostrils crease
-/// 118–162 (five people). The rule before, a triangle turned past 45°,
+/// 118–166 (five people, as `likeness simulate` and the mask study
+/// simulate them). The rule before, a triangle turned past 45°,
 /// counted 950–1,260 for them, mostly where the person's deep-set eyes
 /// reshape the sockets smoothly: a turned triangle cannot tell a new
 /// shape from a crease.

@@ -175,6 +175,18 @@ mod tests {
         }
     }
 
+    /// `points`, each changed by `f`.
+    fn each(points: &[AskedChange], f: impl Fn(&mut AskedChange)) -> Vec<AskedChange> {
+        points
+            .iter()
+            .map(|p| {
+                let mut p = p.clone();
+                f(&mut p);
+                p
+            })
+            .collect()
+    }
+
     #[test]
     fn a_point_folded_onto_its_neighbour_is_dropped_and_smooth_ones_kept() {
         // A row of points 2 mm apart whose changes vary gently (0.1 per
@@ -208,13 +220,7 @@ mod tests {
             point([0.0, -0.2, 0.0], [0.0, -1.5, 0.0], 2, [3, 4, 5]),
         ];
         assert_eq!(consistent_points(&points, 1e-3), vec![0, 1]);
-        let one_lip: Vec<AskedChange> = points
-            .iter()
-            .map(|p| AskedChange {
-                lips: 1,
-                ..p.clone()
-            })
-            .collect();
+        let one_lip = each(&points, |p| p.lips = 1);
         assert_eq!(consistent_points(&one_lip, 1e-3).len(), 1);
     }
 
@@ -229,35 +235,17 @@ mod tests {
         ];
         assert_eq!(consistent_points(&corner, 1e-3).len(), 1);
         // Without knowing the skin, the lips part.
-        let unknown: Vec<AskedChange> = corner
-            .iter()
-            .map(|p| AskedChange {
-                patch: Vec::new(),
-                ..p.clone()
-            })
-            .collect();
+        let unknown = each(&corner, |p| p.patch.clear());
         assert_eq!(consistent_points(&unknown, 1e-3).len(), 2);
         // Both on the lower lip's skin, though the mask says one is of
         // the upper: one surface, wherever the triangles are.
-        let lower: Vec<AskedChange> = unknown
-            .iter()
-            .map(|p| AskedChange {
-                skin_lips: 2,
-                ..p.clone()
-            })
-            .collect();
+        let lower = each(&unknown, |p| p.skin_lips = 2);
         assert_eq!(consistent_points(&lower, 1e-3).len(), 1);
         // On the skin of the two lips, apart, they part, whatever the mask
         // says.
-        let apart: Vec<AskedChange> = unknown
-            .iter()
-            .zip([1, 2])
-            .map(|(p, skin_lips)| AskedChange {
-                lips: 1,
-                skin_lips,
-                ..p.clone()
-            })
-            .collect();
+        let mut apart = each(&unknown, |p| p.lips = 1);
+        apart[0].skin_lips = 1;
+        apart[1].skin_lips = 2;
         assert_eq!(consistent_points(&apart, 1e-3).len(), 2);
     }
 }

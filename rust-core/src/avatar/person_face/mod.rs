@@ -228,8 +228,8 @@ pub fn take_face(
         .fold(0.0, f64::max)
         / to_avatar;
     let ties = touching_pairs(&positions, &triangles, TOUCH_MM * to_avatar);
-    let mut field = rest_field(n, &triangles, &region, &wanted_changes, &ties)
-        .ok_or(TakeFaceError::Unsolved)?;
+    let mut field =
+        rest_field(n, &rings, &region, &wanted_changes, &ties).ok_or(TakeFaceError::Unsolved)?;
     // Lips the person keeps closed stay exactly closed, and never pass
     // through each other: a slide below what a capture can tell is no
     // parting.

@@ -28,7 +28,6 @@
 
 use crate::geometry::connected_components::component_vertices;
 use crate::geometry::laplacian::{normal_lower, uniform_row};
-use crate::geometry::one_ring::one_rings;
 use crate::geometry::self_intersection::intersecting_pairs;
 use crate::geometry::sparse_cholesky;
 use faer::Mat;
@@ -108,17 +107,17 @@ pub const TIE_WEIGHT: f64 = 10.0;
 pub type PointChange = ([u32; 3], [f64; 3], DVec3);
 
 /// The change `u` of every avatar vertex (`n` of them; module docs) on the
-/// skin `triangles` (avatar indices), `region` saying which vertices are
-/// in `R`, `ties` the pairs that move as one; `None` if the system cannot
-/// be solved.
+/// skin whose one-rings are `neighbours` (avatar indices,
+/// [`crate::geometry::one_ring::one_rings`] of its triangles), `region`
+/// saying which vertices are in `R`, `ties` the pairs that move as one;
+/// `None` if the system cannot be solved.
 pub fn rest_field(
     n: usize,
-    triangles: &[[u32; 3]],
+    neighbours: &HashMap<u32, BTreeSet<u32>>,
     region: &[bool],
     points: &[PointChange],
     ties: &[(u32, u32)],
 ) -> Option<Vec<DVec3>> {
-    let neighbours = one_rings(n, triangles);
     let inside: Vec<u32> = (0..n as u32)
         .filter(|&v| region.get(v as usize) == Some(&true) && neighbours.contains_key(&v))
         .collect();

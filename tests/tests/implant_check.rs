@@ -5,7 +5,7 @@
 use glam::{DVec3, Vec3};
 use likeness::Blendshape;
 use likeness::avatar::glb::read::{GlbAvatar, read_avatar_bytes};
-use likeness::avatar::implant_check::{Fault, check_shapes, head_edges, head_triangles};
+use likeness::avatar::implant_check::{EyeProbe, Fault, check_shapes, head_edges, head_triangles};
 use likeness::avatar::personal_avatar::{AvatarWarning, PersonalAvatar};
 use likeness::avatar::rest_check::{REST_CREASE_SHARE, rest_creases, rest_spike};
 
@@ -123,13 +123,20 @@ fn each_breakage_is_named_with_its_shape() {
     );
 }
 
-#[test]
-fn a_lid_pushed_into_the_eyeball_is_found() {
-    let glb = default_glb();
-    let made = subject_1(&glb);
-    let found = &made.registration;
-    let avatar = &glb.avatar;
-    let mut shapes = shapes_of(&made);
+/// The first eyeball of `found` on the default avatar: the skin vertices
+/// by their distance from its centre, nearest first, and the change that
+/// takes a vertex half a radius in front of the centre, deep inside.
+struct FirstEye {
+    skin: Vec<usize>,
+    inside: Vec<Vec3>,
+    radius: f64,
+    centre: DVec3,
+}
+
+fn first_eye(
+    avatar: &likeness::avatar::Avatar,
+    found: &likeness::avatar::registration::FaceRegistration,
+) -> FirstEye {
     let rest: Vec<DVec3> = avatar.positions().iter().map(|p| p.as_dvec3()).collect();
     let eye = &found.eyeballs[0];
     let centre = eye.iter().map(|&v| rest[v as usize]).sum::<DVec3>() / eye.len() as f64;
@@ -137,20 +144,41 @@ fn a_lid_pushed_into_the_eyeball_is_found() {
         .iter()
         .map(|&v| (rest[v as usize] - centre).length())
         .fold(0.0, f64::max);
-    // eyeSquintLeft takes the skin vertex nearest the eyeball's centre
-    // to half a radius in front of the centre, deep inside.
     let forward = found.similarity.rotation * DVec3::Z;
-    let nearest = (0..rest.len())
+    let mut skin: Vec<usize> = (0..rest.len())
         .filter(|v| !found.eyeballs.iter().flatten().any(|e| *e as usize == *v))
-        .min_by(|a, b| {
-            (rest[*a] - centre)
-                .length()
-                .total_cmp(&(rest[*b] - centre).length())
-        })
-        .expect("skin");
-    assert!((rest[nearest] - centre).length() < 1.5 * radius);
-    shapes[Blendshape::EyeSquintLeft.index()][nearest] =
-        (centre + 0.5 * radius * forward - rest[nearest]).as_vec3();
+        .collect();
+    skin.sort_by(|a, b| {
+        (rest[*a] - centre)
+            .length()
+            .total_cmp(&(rest[*b] - centre).length())
+    });
+    let inside = rest
+        .iter()
+        .map(|p| (centre + 0.5 * radius * forward - *p).as_vec3())
+        .collect();
+    FirstEye {
+        skin,
+        inside,
+        radius,
+        centre,
+    }
+}
+
+#[test]
+fn a_lid_pushed_into_the_eyeball_is_found() {
+    let glb = default_glb();
+    let made = subject_1(&glb);
+    let found = &made.registration;
+    let avatar = &glb.avatar;
+    let mut shapes = shapes_of(&made);
+    let eye = first_eye(avatar, found);
+    // eyeSquintLeft takes the skin vertex nearest the eyeball's centre
+    // deep inside.
+    let nearest = eye.skin[0];
+    let rest = avatar.positions()[nearest].as_dvec3();
+    assert!((rest - eye.centre).length() < 1.5 * eye.radius);
+    shapes[Blendshape::EyeSquintLeft.index()][nearest] = eye.inside[nearest];
     let faults = check_shapes(avatar, found, &shapes, &made.retargeting.floored_residual);
     assert!(
         faults.iter().any(|f| matches!(
@@ -162,6 +190,34 @@ fn a_lid_pushed_into_the_eyeball_is_found() {
         )),
         "{faults:?}"
     );
+}
+
+#[test]
+fn a_lid_counts_only_where_the_own_shape_keeps_it_out() {
+    let glb = default_glb();
+    let made = subject_1(&glb);
+    let found = &made.registration;
+    let avatar = &glb.avatar;
+    let eye = first_eye(avatar, found);
+    // The two skin vertices nearest the eyeball's centre, each taken deep
+    // inside by a shape.
+    let (a, b) = (eye.skin[0], eye.skin[1]);
+    let inside = |v: usize| eye.inside[v];
+    let probe = EyeProbe::new(avatar, found, &found.eyeballs[0]);
+    let none = vec![Vec3::ZERO; avatar.vertex_count()];
+    let mut own = none.clone();
+    own[a] = inside(a);
+    let mut got = own.clone();
+    // Where the own shape takes the lid in too, it is the rig's own.
+    assert_eq!(probe.deepest_lid(&own, &got, 0.0).0, 0.0);
+    // Where only the person's shape takes it in, it is found.
+    got[b] = inside(b);
+    let (depth, vertex) = probe.deepest_lid(&own, &got, 0.0);
+    assert_eq!(vertex as usize, b);
+    assert!(depth > 0.0);
+    // Without an own shape, the lid the own shape took in counts too.
+    let (alone, _) = probe.deepest_lid(&none, &own, 0.0);
+    assert!(alone > 0.0);
 }
 
 #[test]

@@ -399,10 +399,10 @@ impl EyeProbe {
         }
     }
 
-    /// How deep each near vertex lies inside the eyeball under
-    /// displacement `d`: by the eyeball's closest triangle as displaced by
-    /// the same shape, facing outwards (0 outside).
-    fn depths(&self, d: &[Vec3]) -> Vec<f64> {
+    /// How deep each of the near vertices `which` lies inside the eyeball
+    /// under displacement `d`: by the eyeball's closest triangle as
+    /// displaced by the same shape, facing outwards (0 outside).
+    fn depths(&self, d: &[Vec3], which: &[usize]) -> Vec<f64> {
         let posed = |v: usize| self.rest[v] + d[v].as_dvec3();
         let eye_posed: Vec<DVec3> = self.eye.iter().map(|&v| posed(v as usize)).collect();
         let grid = self.tree.moved_to(&eye_posed);
@@ -410,7 +410,7 @@ impl EyeProbe {
         // is inside it.
         let (centre, radius) =
             bounding_sphere(&eye_posed, &(0..eye_posed.len() as u32).collect::<Vec<_>>());
-        self.near
+        which
             .iter()
             .map(|&v| {
                 let p = posed(v);
@@ -432,16 +432,26 @@ impl EyeProbe {
     /// vertex; `(0, 0)` at once where `got` moves neither the eyeball nor
     /// the skin near it by `still` (avatar units): nothing can then go
     /// deeper into the eyeball than `still` past where it lies at rest,
-    /// which is the rig's own.
+    /// which is the rig's own. Only the vertices `got` takes inside are
+    /// looked up under `own`.
     pub fn deepest_lid(&self, own: &[Vec3], got: &[Vec3], still: f64) -> (f64, u32) {
         let moves = |v: usize| f64::from(got[v].length()) > still;
         if !self.near.iter().any(|&v| moves(v)) && !self.eye.iter().any(|&v| moves(v as usize)) {
             return (0.0, 0);
         }
-        let (own_depth, got_depth) = (self.depths(own), self.depths(got));
-        self.near
+        let (inside, got_depth): (Vec<usize>, Vec<f64>) = self
+            .near
             .iter()
-            .zip(own_depth.iter().zip(&got_depth))
+            .zip(self.depths(got, &self.near))
+            .filter(|(_, g)| *g > 0.0)
+            .map(|(v, g)| (*v, g))
+            .unzip();
+        if inside.is_empty() {
+            return (0.0, 0);
+        }
+        inside
+            .iter()
+            .zip(self.depths(own, &inside).iter().zip(&got_depth))
             .filter(|(_, (o, _))| **o == 0.0)
             .map(|(v, (_, g))| (*g, *v as u32))
             .fold((0.0, 0), |a, b| if b.0 > a.0 { b } else { a })

@@ -7,13 +7,18 @@
 //! matrix as triplets (duplicates are summed) and factors it once; a solve
 //! is then two triangular sweeps per right-hand side. Where the values
 //! change but the sparsity does not (the registration's steps), the
-//! pattern is analysed once ([`FixedPattern`]): the order its entries'
-//! values are read in and the symbolic factorization; each new set of
-//! values is then only summed into place and factored numerically.
+//! pattern is analysed once ([`FixedPattern`]): where each entry's value
+//! goes and the symbolic factorization; each new set of values is then
+//! only summed into place and factored numerically, into storage kept
+//! from one factorization to the next ([`FactorWork`]).
 
-use faer::Side;
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::sparse::linalg::cholesky::{
+    LltRef, SymbolicCholesky, SymmetricOrdering, factorize_symbolic_cholesky,
+};
 use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
-use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat, Triplet};
+use faer::sparse::{Pair, SparseColMat, SparseColMatRef, SymbolicSparseColMat, Triplet};
+use faer::{Conj, MatMut, Par, Side};
 
 /// Why a matrix could not be factored.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -43,12 +48,37 @@ fn matrix(
 /// The lower triangle of an `n × n` symmetric matrix whose entries are
 /// always at the same places, in the same order, analysed once: where
 /// each entry's value goes (duplicates summed) and the symbolic
-/// factorization. [`FixedPattern::factor`] then takes only the values.
+/// factorization. [`FixedPattern::factor`] then takes only the values,
+/// into storage kept from one factorization to the next
+/// ([`FactorWork`]).
 pub struct FixedPattern {
     structure: SymbolicSparseColMat<usize>,
-    order: Argsort<usize>,
-    symbolic: SymbolicLlt<usize>,
-    entries: usize,
+    /// For each entry, in the order given, its place among the matrix's
+    /// stored values.
+    place: Vec<usize>,
+    symbolic: SymbolicCholesky<usize>,
+}
+
+/// What the factorizations of one [`FixedPattern`] reuse: the matrix's
+/// values, the factor's and the scratch space, allocated once.
+pub struct FactorWork {
+    matrix: Vec<f64>,
+    factor: Vec<f64>,
+    scratch: MemBuffer,
+}
+
+/// `L Lᵀ` of a [`FixedPattern`]'s matrix, held in its [`FactorWork`].
+pub struct FixedFactor<'a> {
+    llt: LltRef<'a, usize, f64>,
+    scratch: &'a mut MemBuffer,
+}
+
+impl FixedFactor<'_> {
+    /// Solves `A x = b` for every column `b` of `rhs`, in place.
+    pub fn solve_in_place(&mut self, rhs: MatMut<'_, f64>) {
+        self.llt
+            .solve_in_place_with_conj(Conj::No, rhs, Par::Seq, MemStack::new(self.scratch));
+    }
 }
 
 impl FixedPattern {
@@ -62,32 +92,89 @@ impl FixedPattern {
                 col: t.col,
             })
             .collect();
-        let (structure, order) = SymbolicSparseColMat::try_new_from_indices(n, n, &places)
+        let (structure, _) = SymbolicSparseColMat::try_new_from_indices(n, n, &places)
             .map_err(|e| FactorError::Entries(format!("{e:?}")))?;
-        let symbolic = SymbolicLlt::try_new(structure.as_ref(), Side::Lower)
-            .map_err(|e| FactorError::Symbolic(format!("{e:?}")))?;
+        // Each entry's place: its row among its column's (sorted, unique).
+        let (starts, rows) = (structure.col_ptr(), structure.row_idx());
+        let place = places
+            .iter()
+            .map(|p| {
+                let column = &rows[starts[p.col]..starts[p.col + 1]];
+                column
+                    .binary_search(&p.row)
+                    .map(|k| starts[p.col] + k)
+                    .map_err(|_| FactorError::Entries(format!("no place for {p:?}")))
+            })
+            .collect::<Result<Vec<usize>, FactorError>>()?;
+        let symbolic = factorize_symbolic_cholesky(
+            structure.as_ref(),
+            Side::Lower,
+            SymmetricOrdering::Amd,
+            Default::default(),
+        )
+        .map_err(|e| FactorError::Symbolic(format!("{e:?}")))?;
         Ok(FixedPattern {
             structure,
-            order,
+            place,
             symbolic,
-            entries: lower.len(),
         })
     }
 
+    /// Storage for this pattern's factorizations: its matrix's values, its
+    /// factor's, and the scratch space of a factorization and of a solve
+    /// with up to `columns` right-hand sides.
+    pub fn work(&self, columns: usize) -> FactorWork {
+        let scratch = StackReq::any_of(&[
+            self.symbolic
+                .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
+            self.symbolic
+                .solve_in_place_scratch::<f64>(columns, Par::Seq),
+        ]);
+        FactorWork {
+            matrix: vec![0.0; self.structure.row_idx().len()],
+            factor: vec![0.0; self.symbolic.len_val()],
+            scratch: MemBuffer::new(scratch),
+        }
+    }
+
     /// `L Lᵀ` of the matrix whose entries, at the places and in the order
-    /// the pattern was made with, have the values `values`.
-    pub fn factor(&self, values: &[f64]) -> Result<Llt<usize, f64>, FactorError> {
-        if values.len() != self.entries {
+    /// the pattern was made with, have the values `values`, in `work`
+    /// ([`FixedPattern::work`]).
+    pub fn factor<'a>(
+        &'a self,
+        values: &[f64],
+        work: &'a mut FactorWork,
+    ) -> Result<FixedFactor<'a>, FactorError> {
+        if values.len() != self.place.len() {
             return Err(FactorError::Entries(format!(
                 "{} values for a pattern of {} entries",
                 values.len(),
-                self.entries
+                self.place.len()
             )));
         }
-        let a = SparseColMat::new_from_argsort(self.structure.clone(), &self.order, values)
-            .map_err(|e| FactorError::Entries(format!("{e:?}")))?;
-        Llt::try_new_with_symbolic(self.symbolic.clone(), a.as_ref(), Side::Lower)
-            .map_err(|e| FactorError::Numeric(format!("{e:?}")))
+        let FactorWork {
+            matrix,
+            factor,
+            scratch,
+        } = work;
+        matrix.fill(0.0);
+        for (&k, &x) in self.place.iter().zip(values) {
+            matrix[k] += x;
+        }
+        let a = SparseColMatRef::new(self.structure.as_ref(), matrix);
+        let llt = self
+            .symbolic
+            .factorize_numeric_llt(
+                factor,
+                a,
+                Side::Lower,
+                Default::default(),
+                Par::Seq,
+                MemStack::new(scratch),
+                Default::default(),
+            )
+            .map_err(|e| FactorError::Numeric(format!("{e:?}")))?;
+        Ok(FixedFactor { llt, scratch })
     }
 }
 
@@ -129,18 +216,31 @@ mod tests {
             assert!((b[(i, 0)] - 1.0).abs() < 1e-12, "{i}: {}", b[(i, 0)]);
         }
         // The same pattern, analysed once, with its values doubled: x = ½.
+        // Factored twice in the same storage, the second time with every
+        // value tripled: x = ⅓, whatever the first left there.
         let pattern = FixedPattern::new(n, &lower).unwrap();
+        let mut work = pattern.work(1);
         let doubled: Vec<f64> = lower.iter().map(|t| 2.0 * t.val).collect();
-        let again = pattern.factor(&doubled).unwrap();
+        pattern.factor(&doubled, &mut work).unwrap();
+        let tripled: Vec<f64> = lower.iter().map(|t| 3.0 * t.val).collect();
+        let mut again = pattern.factor(&tripled, &mut work).unwrap();
         let mut c = Mat::<f64>::from_fn(n, 1, |i, _| if i == 0 || i == n - 1 { 2.0 } else { 1.0 });
-        again.solve_in_place(&mut c);
+        again.solve_in_place(c.as_mut());
         for i in 0..n {
-            assert!((c[(i, 0)] - 0.5).abs() < 1e-12, "{i}: {}", c[(i, 0)]);
+            assert!((c[(i, 0)] - 1.0 / 3.0).abs() < 1e-12, "{i}: {}", c[(i, 0)]);
         }
         assert!(matches!(
-            pattern.factor(&doubled[1..]),
+            pattern.factor(&doubled[1..], &mut work),
             Err(FactorError::Entries(_))
         ));
+        // An indefinite set of values is a typed error, and the storage
+        // still serves the next.
+        let negative: Vec<f64> = lower.iter().map(|t| -t.val).collect();
+        assert!(matches!(
+            pattern.factor(&negative, &mut work),
+            Err(FactorError::Numeric(_))
+        ));
+        assert!(pattern.factor(&doubled, &mut work).is_ok());
     }
 
     #[test]

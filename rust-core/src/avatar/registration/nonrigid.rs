@@ -45,10 +45,9 @@
 //! while the mask is stiff and have faded when the fit gets fine.
 
 use crate::geometry::closest_point::TriangleTree;
-use crate::geometry::sparse_cholesky::FixedPattern;
+use crate::geometry::sparse_cholesky::{FactorWork, FixedPattern};
 use crate::personalize::blendshape_fit::in_parallel_map;
 use faer::Mat;
-use faer::linalg::solvers::Solve;
 use faer::sparse::Triplet;
 use glam::DVec3;
 
@@ -150,6 +149,8 @@ pub fn register_nonrigid(
         return None;
     }
     let system = StepSystem::new(n, unique_edges(triangles, n))?;
+    // The factor's storage, reused by every step.
+    let mut work = system.pattern.work(3);
     let centre = start.iter().sum::<DVec3>() / n as f64;
     let radius = (start
         .iter()
@@ -178,7 +179,7 @@ pub fn register_nonrigid(
         stages += 1;
         for _ in 0..MAX_STEPS_PER_STAGE {
             steps += 1;
-            let next = solve_step(&system, &local, &x, &pairs, &landmarks, alpha)?;
+            let next = solve_step((&system, &mut work), &local, &x, &pairs, &landmarks, alpha)?;
             // RMS motion (Amberg et al.'s ‖X − X_old‖): a few vertices
             // trading one compatible point for another must not keep a
             // converged mask stepping.
@@ -378,9 +379,10 @@ fn landmark_pulls(landmarks: &[Landmark], x: &[DVec3]) -> Vec<(usize, f64, DVec3
 
 /// One step: the affine maps minimizing `E` (module docs, landmarks as
 /// in [`landmark_pulls`]) for the pairs `pairs` and stiffness `alpha`,
-/// applied to the start `local`; `x` is the current mask.
+/// applied to the start `local`; `x` is the current mask. The system is
+/// factored in `work`, kept from step to step.
 fn solve_step(
-    system: &StepSystem,
+    (system, work): (&StepSystem, &mut FactorWork),
     local: &[DVec3],
     x: &[DVec3],
     pairs: &[Pair],
@@ -432,8 +434,8 @@ fn solve_step(
         .iter()
         .map(|t| t.val)
         .collect();
-    let llt = system.pattern.factor(&values).ok()?;
-    llt.solve_in_place(&mut rhs);
+    let mut llt = system.pattern.factor(&values, work).ok()?;
+    llt.solve_in_place(rhs.as_mut());
     let out: Vec<DVec3> = local
         .iter()
         .enumerate()

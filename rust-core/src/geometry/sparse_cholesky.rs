@@ -215,9 +215,9 @@ mod tests {
         for i in 0..n {
             assert!((b[(i, 0)] - 1.0).abs() < 1e-12, "{i}: {}", b[(i, 0)]);
         }
-        // The same pattern, analysed once, with its values doubled: x = ½.
-        // Factored twice in the same storage, the second time with every
-        // value tripled: x = ⅓, whatever the first left there.
+        // The same pattern, analysed once, factored twice in the same
+        // storage, the second time with every value tripled: x = ⅓,
+        // whatever the first (doubled) left there.
         let pattern = FixedPattern::new(n, &lower).unwrap();
         let mut work = pattern.work(1);
         let doubled: Vec<f64> = lower.iter().map(|t| 2.0 * t.val).collect();

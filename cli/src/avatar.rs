@@ -106,6 +106,12 @@ struct Summary {
     implant_face_vertices: usize,
     implant_adjacent_vertices: usize,
     lids_repaired: usize,
+    /// Skin edges creased where the avatar's own shape keeps them smooth,
+    /// over the 52 shapes, before the creases finer than the mask were
+    /// smoothed out and after (`partial_transfer::crease_smoothing`; 0
+    /// when writing `A_j`).
+    creases_found: usize,
+    creases_left: usize,
     /// Steps skipped or limited because the avatar lacked something, and
     /// each shape past a limit of the check of the output.
     warnings: Vec<String>,
@@ -489,6 +495,8 @@ pub fn avatar_command(args: &AvatarArgs) -> CliResult {
         implant_face_vertices: implanted.as_ref().map_or(0, |i| i.face_vertices),
         implant_adjacent_vertices: implanted.as_ref().map_or(0, |i| i.adjacent_vertices),
         lids_repaired: implanted.as_ref().map_or(0, |i| i.lids_repaired),
+        creases_found: implanted.as_ref().map_or(0, |i| i.creases_found),
+        creases_left: implanted.as_ref().map_or(0, |i| i.creases_left),
         warnings: made.warnings.iter().map(|w| w.to_string()).collect(),
         seconds: t,
         out_bytes: made.glb.len() as u64,
@@ -641,8 +649,12 @@ fn print_summary(s: &Summary) {
     }
     if s.implant_face_vertices > 0 {
         println!(
-            "Implanted: {} face vertices (step 1), {} next to them (step 2), {} lid vertices put back out of an eyeball",
-            s.implant_face_vertices, s.implant_adjacent_vertices, s.lids_repaired
+            "Implanted: {} face vertices (step 1), {} next to them (step 2), {} lid vertices put back out of an eyeball; {} skin edges creased finer than the mask, {} after smoothing",
+            s.implant_face_vertices,
+            s.implant_adjacent_vertices,
+            s.lids_repaired,
+            s.creases_found,
+            s.creases_left
         );
     }
     match s.checked_faults {

@@ -191,17 +191,19 @@ fn the_default_avatar_takes_the_face_of_five_people_on_arkits_mesh() {
     }
 }
 
-/// Point 4 on every avatar: two people on ARKit's mesh each make an avatar
-/// (none refused), whatever the check finds past a limit is in the
+/// Point 4 on every avatar: five people on ARKit's mesh each make an
+/// avatar (none refused), whatever the check finds past a limit is in the
 /// warnings, which name the shape, no blink leaves an eye open, and on the
-/// avatars we generate no shape passes a limit at all.
+/// avatars we generate no shape passes a limit at all (seed 4's brow once
+/// folded 51–61 triangles of the lid in browDownLeft, limit 50–60:
+/// `partial_transfer::crease_smoothing`).
 #[test]
 fn people_on_arkits_mesh_are_checked_on_every_avatar() {
     let Some(people) = arkit_people() else { return };
     for glb in every_avatar() {
         let name = glb.file.display().to_string();
         let face = RestFace::chosen(name == "default avatar", None);
-        for person in &people[..2] {
+        for person in people {
             let made = made(&glb, person, face)
                 .unwrap_or_else(|e| panic!("{name}, seed {}: {e}", person.seed));
             let faults: Vec<String> = made

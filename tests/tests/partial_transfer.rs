@@ -572,7 +572,13 @@ fn beyond_the_blend_margin_the_avatar_follows_a_j_exactly() {
 /// mask does at the vertex's true point on it, within 0.3 mm, in the
 /// shapes that move the lips apart or together (a vertex of one lip given
 /// the other's motion would be off by the mouth's opening, up to 21 mm in
-/// jawOpen). The lips' edges are taken (nine in ten at least) but within
+/// jawOpen); within 10 mm of the corners, where the smoothing of the
+/// transfer's folds there reaches (`partial_transfer::crease_smoothing`),
+/// within 4 mm (measured 2.2 mm in mouthClose, 2.9 in mouthPucker, 1.2 in
+/// mouthSmileLeft, 0.2 in jawOpen), and elsewhere within 1 mm in the
+/// shapes it smoothed (measured 0.7 mm, mouthSmileLeft's cheek beside the
+/// corner); the animation's likeness over the whole face is checked in
+/// `likeness_on_avatar.rs`. The lips' edges are taken (nine in ten at least) but within
 /// 3 mm of the corners, where the lips meet (measured: 0.17 mm at most,
 /// mouthPucker; 2 of the edges' 62 vertices left to step 2; 538 of
 /// the face's vertices left to step 2 in all, the lids' margins and the
@@ -591,6 +597,17 @@ fn each_lip_moves_as_the_persons_up_to_the_slit() {
         .map(|f| f.vertex as usize)
         .collect();
     let positions = &built.avatar.parts()[built.skin].positions;
+    // The mouth's corners, and how near them the creases the transfer
+    // folds there are smoothed out (`partial_transfer::crease_smoothing`:
+    // the untaken corner vertices' triangles turned 100–176° in
+    // mouthClose and mouthPucker; three rounds reach 9 mm past them).
+    let [mx, my] = likeness_sim::face_mask::MOUTH_CENTRE.map(|x| x as f32);
+    let half_width = likeness_sim::face_mask::MOUTH_HALF_WIDTH as f32;
+    let corners = [
+        glam::Vec2::new(mx - half_width, my),
+        glam::Vec2::new(mx + half_width, my),
+    ];
+    const CORNER: f32 = 0.010;
     for shape in [
         Blendshape::JawOpen,
         Blendshape::MouthClose,
@@ -601,6 +618,7 @@ fn each_lip_moves_as_the_persons_up_to_the_slit() {
         let delta = subject.person.delta(shape);
         let got = &subject.implanted.shapes[shape.index()];
         let mut worst = (0.0f64, 0usize);
+        let mut worst_at_corners = 0.0f64;
         for (v, m) in built.true_correspondence.iter().enumerate() {
             if !taken.contains(&(start + v)) {
                 continue;
@@ -610,21 +628,41 @@ fn each_lip_moves_as_the_persons_up_to_the_slit() {
                 .map(|k| m.barycentric[k] * delta[t[k] as usize])
                 .sum();
             let off = (got[start + v].as_dvec3() - truth).length();
-            if off > worst.0 {
+            let p = positions[v];
+            let at_a_corner = corners
+                .iter()
+                .any(|c| (p.truncate() - *c).length() < CORNER);
+            if at_a_corner {
+                worst_at_corners = worst_at_corners.max(off);
+            } else if off > worst.0 {
                 worst = (off, v);
             }
         }
         eprintln!(
-            "{shape}: taken face vertices within {:.3} mm of the person's motion (worst at {:?})",
+            "{shape}: taken face vertices within {:.3} mm of the person's motion (worst at {:?}), {:.3} mm by the corners",
             worst.0 * 1e3,
-            positions[worst.1]
+            positions[worst.1],
+            worst_at_corners * 1e3
         );
-        assert!(worst.0 < 3e-4, "{shape}: {:.3} mm off", worst.0 * 1e3);
+        // Where the smoothing removed folds the transfer made (mouthClose,
+        // mouthPucker, and mouthSmileLeft's cheek beside the corner), the
+        // motion moves by up to 0.7 mm away from the corners; a lip given
+        // the other's motion would be off by millimetres more.
+        let smoothed = matches!(
+            shape,
+            Blendshape::MouthClose | Blendshape::MouthPucker | Blendshape::MouthSmileLeft
+        );
+        let limit = if smoothed { 1e-3 } else { 3e-4 };
+        assert!(worst.0 < limit, "{shape}: {:.3} mm off", worst.0 * 1e3);
+        assert!(
+            worst_at_corners < 4e-3,
+            "{shape}: {:.3} mm off by a corner",
+            worst_at_corners * 1e3
+        );
     }
     // The mouth's edges (the skin's boundary loop round the mouth) are
     // taken, but near the corners.
-    let mouth_y = likeness_sim::face_mask::MOUTH_CENTRE[1] as f32;
-    let half_width = likeness_sim::face_mask::MOUTH_HALF_WIDTH as f32;
+    let mouth_y = my;
     let edges: Vec<usize> = (0..built.true_correspondence.len())
         .filter(|&v| {
             let p = positions[v];

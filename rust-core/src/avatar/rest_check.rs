@@ -14,8 +14,8 @@
 use super::implant_check::{head_edges, head_triangles};
 use super::model::Avatar;
 use super::registration::FaceRegistration;
-use glam::{DVec3, Vec3};
-use std::collections::HashMap;
+use crate::geometry::dihedral_angle::Hinges;
+use glam::DVec3;
 use std::fmt;
 
 /// No vertex may move, at rest, more than this many times the largest
@@ -98,21 +98,6 @@ impl fmt::Display for RestCreases {
     }
 }
 
-/// The dihedral angle (radians) between triangles `s` and `t` at
-/// `positions`: 0 where they lie flat, π where folded onto each other; 0
-/// for a degenerate one.
-fn dihedral(positions: &[Vec3], s: [u32; 3], t: [u32; 3]) -> f64 {
-    let normal = |t: [u32; 3]| {
-        let [a, b, c] = t.map(|v| positions[v as usize].as_dvec3());
-        (b - a).cross(c - a)
-    };
-    let (m, n) = (normal(s), normal(t));
-    if m.length_squared() == 0.0 || n.length_squared() == 0.0 {
-        return 0.0;
-    }
-    m.angle_between(n)
-}
-
 /// The head edges of `avatar` (found by `found`, before its face was
 /// taken) whose dihedral angle the rest change `moved` (one per vertex,
 /// avatar units) changes by more than [`REST_CREASE_ANGLE`], if more than
@@ -124,27 +109,22 @@ pub fn rest_creases(
     moved: &[DVec3],
 ) -> Option<RestCreases> {
     let triangles = head_triangles(avatar, found);
-    let rest = avatar.positions();
-    let got: Vec<Vec3> = rest
+    let rest: Vec<DVec3> = avatar.positions().iter().map(|p| p.as_dvec3()).collect();
+    let hinges = Hinges::new(&rest, &triangles);
+    let changes = hinges.changes(&rest, moved);
+    let pairs = hinges.pairs();
+    let edge_of = |[s, t]: [usize; 2]| {
+        let shared: Vec<u32> = triangles[s]
+            .into_iter()
+            .filter(|v| triangles[t].contains(v))
+            .collect();
+        (shared[0].min(shared[1]), shared[0].max(shared[1]))
+    };
+    let mut creased: Vec<(f64, (u32, u32))> = pairs
         .iter()
-        .zip(moved)
-        .map(|(p, d)| *p + d.as_vec3())
-        .collect();
-    let mut sides: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
-    for (k, t) in triangles.iter().enumerate() {
-        for i in 0..3 {
-            let (a, b) = (t[i], t[(i + 1) % 3]);
-            sides.entry((a.min(b), a.max(b))).or_default().push(k);
-        }
-    }
-    let mut creased: Vec<(f64, (u32, u32))> = sides
-        .iter()
-        .filter(|(_, k)| k.len() == 2)
-        .map(|(e, k)| {
-            let (s, t) = (triangles[k[0]], triangles[k[1]]);
-            ((dihedral(&got, s, t) - dihedral(&rest, s, t)).abs(), *e)
-        })
-        .filter(|(change, _)| *change > REST_CREASE_ANGLE)
+        .zip(&changes)
+        .filter(|(_, change)| **change > REST_CREASE_ANGLE)
+        .map(|(pair, change)| (*change, edge_of(*pair)))
         .collect();
     let limit = (REST_CREASE_SHARE * head_edges(avatar, found).len() as f64).floor() as usize;
     // The most changed, the first of equals (not the hash's order).

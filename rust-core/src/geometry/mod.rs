@@ -12,6 +12,7 @@
 //! | §3.3, ICP and the map `M` | exact closest points on a triangle mesh in a bounding-volume hierarchy (Ericson 2005; Wald et al. 2007) | [`closest_point`] |
 //! | §3.3, teeth and eyeballs inside one mesh | connected components (union–find) | [`connected_components`] |
 //! | §3.3, the skin the mask may lie on | triangles seen from the front (orthographic depth buffer) | [`front_visibility`] |
+//! | beyond §3.3, creases at rest and in a shape: the angle between two triangles on an edge, and how a displacement changes it | [`dihedral_angle`] |
 //! | §3.3, the blend margin; motion faded out where nothing moves | shortest edge paths from a set of vertices (Dijkstra) | [`edge_distance`] |
 //! | §3.2 (Eq. 2), §3.3 steps 1 and 2 | the cotangent Laplacian (gradient form) and the uniform one, as sparse entries | [`laplacian`] |
 //! | §3.3 step 2, the person's face: the uniform Laplacian's rows | each vertex's one-ring | [`one_ring`] |
@@ -25,6 +26,7 @@ pub mod closest_point;
 pub mod connected_components;
 pub mod deformation_gradient;
 pub mod deformation_transfer;
+pub mod dihedral_angle;
 pub mod edge_distance;
 pub mod front_visibility;
 pub mod laplacian;

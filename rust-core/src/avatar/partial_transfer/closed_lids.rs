@@ -143,6 +143,19 @@ impl ClosedLids {
         self.per_shape.iter().map(Vec::len).sum()
     }
 
+    /// Marks in `held` (one per avatar vertex) the lid vertices shape `j`
+    /// (Apple's order) gives the avatar's own lid.
+    pub fn hold(&self, j: usize, held: &mut [bool]) {
+        let eyes = self.per_shape.get(j).map_or(&[][..], Vec::as_slice);
+        for lid in eyes.iter().filter_map(|&e| self.lids.get(e)) {
+            for &(v, _) in &lid.weights {
+                if let Some(h) = held.get_mut(v as usize) {
+                    *h = true;
+                }
+            }
+        }
+    }
+
     /// Gives every shape's displacement `full[j]` (all avatar vertices) the
     /// avatar's own lid of each eye it closes (module docs).
     pub fn apply(&self, full: &mut [Vec<DVec3>]) {

@@ -126,41 +126,56 @@ impl Hinges {
 
     /// The cosine of the angle by which displacement `d` turns each
     /// triangle's normal; `None` for a triangle degenerate at rest or
-    /// moved.
-    fn turn_cosines(&self, rest: &[DVec3], d: &[DVec3]) -> Vec<Option<f64>> {
+    /// moved. Computed once per displacement, it serves
+    /// [`Hinges::turned`] and [`Hinges::bent`].
+    pub fn turn_cosines(&self, rest: &[DVec3], d: &[DVec3]) -> Vec<Option<f64>> {
         let moved = |v: u32| rest[v as usize] + d[v as usize];
         self.triangles
             .iter()
             .zip(&self.normals)
             .map(|(t, before)| {
+                if *before == DVec3::ZERO {
+                    return None;
+                }
+                // A triangle no corner of which moves does not turn (most
+                // of a head in most shapes): no normal to compute.
+                if t.iter().all(|&v| d[v as usize] == DVec3::ZERO) {
+                    return Some(1.0);
+                }
                 let after = unit_normal(moved, *t);
-                (*before != DVec3::ZERO && after != DVec3::ZERO).then(|| after.dot(*before))
+                (after != DVec3::ZERO).then(|| after.dot(*before))
             })
             .collect()
     }
 
-    /// Whether displacement `d` turns each triangle's normal by more than
-    /// `angle` (radians); a triangle degenerate at rest or moved is not
-    /// turned (as in the avatar's checks).
-    pub fn turned(&self, rest: &[DVec3], d: &[DVec3], angle: f64) -> Vec<bool> {
+    /// Whether each triangle turns by more than `angle` (radians), from
+    /// its turn's cosine ([`Hinges::turn_cosines`]); a triangle degenerate
+    /// at rest or moved is not turned (as in the avatar's checks).
+    pub fn turned(cosines: &[Option<f64>], angle: f64) -> Vec<bool> {
         let least = angle.cos();
-        self.turn_cosines(rest, d)
+        cosines
             .iter()
             .map(|c| c.is_some_and(|c| c < least))
             .collect()
     }
 
     /// Whether displacement `d` changes each pair's dihedral angle by more
-    /// than `angle` (radians). The same as comparing [`Hinges::changes`],
-    /// measured only where it can be so: a dihedral angle changes by at
-    /// most the sum of the turns of its two triangles' normals, so a pair
-    /// whose triangles both turn by at most `angle / 2` (a cosine against
-    /// the normals at rest, no arccosine) is not bent.
-    pub fn bent(&self, rest: &[DVec3], d: &[DVec3], angle: f64) -> Vec<bool> {
+    /// than `angle` (radians), given the triangles' turns under `d`
+    /// (`cosines`, [`Hinges::turn_cosines`]). The same as comparing
+    /// [`Hinges::changes`], measured only where it can be so: a dihedral
+    /// angle changes by at most the sum of the turns of its two
+    /// triangles' normals, so a pair whose triangles both turn by at most
+    /// `angle / 2` is not bent.
+    pub fn bent(
+        &self,
+        rest: &[DVec3],
+        d: &[DVec3],
+        cosines: &[Option<f64>],
+        angle: f64,
+    ) -> Vec<bool> {
         let moved = |v: u32| rest[v as usize] + d[v as usize];
         let least = (angle / 2.0).cos();
-        let turns_little: Vec<bool> = self
-            .turn_cosines(rest, d)
+        let turns_little: Vec<bool> = cosines
             .iter()
             .map(|c| c.is_some_and(|c| c >= least))
             .collect();
@@ -219,8 +234,12 @@ mod tests {
         let changes = hinges.changes(&rest, &d);
         assert!((changes[0] - FRAC_PI_2).abs() < 1e-12, "{changes:?}");
         assert!(changes[1].abs() < 1e-12, "{changes:?}");
-        assert_eq!(hinges.bent(&rest, &d, 1.5), vec![true, false]);
-        assert_eq!(hinges.bent(&rest, &d, 1.6), vec![false, false]);
+        let cosines = hinges.turn_cosines(&rest, &d);
+        assert_eq!(hinges.bent(&rest, &d, &cosines, 1.5), vec![true, false]);
+        assert_eq!(hinges.bent(&rest, &d, &cosines, 1.6), vec![false, false]);
+        // Only the wing turns, by a right angle.
+        assert_eq!(Hinges::turned(&cosines, 1.5), vec![false, true, false]);
+        assert_eq!(Hinges::turned(&cosines, 1.6), vec![false, false, false]);
         let flat = |v: u32| rest[v as usize];
         assert_eq!(dihedral(flat, [0, 0, 1], [0, 1, 2]), 0.0, "degenerate");
     }

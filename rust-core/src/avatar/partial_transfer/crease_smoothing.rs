@@ -131,7 +131,7 @@ impl CreaseSmoothing {
     fn creased(
         &self,
         rest: &[DVec3],
-        made: &[DVec3],
+        (made, cosines): (&[DVec3], &[Option<f64>]),
         own_smooth: &[bool],
         mask_bend: &[f64],
     ) -> Vec<usize> {
@@ -144,7 +144,7 @@ impl CreaseSmoothing {
                 .fold(0.0, f64::max)
         };
         self.hinges
-            .bent(rest, made, CREASE_ANGLE)
+            .bent(rest, made, cosines, CREASE_ANGLE)
             .iter()
             .zip(own_smooth)
             .enumerate()
@@ -161,33 +161,35 @@ impl CreaseSmoothing {
         rest: &[DVec3],
         shape: ShapeToSmooth,
     ) -> Result<(usize, usize), FactorError> {
+        let own_cosines = self.hinges.turn_cosines(rest, shape.own);
         let own_smooth: Vec<bool> = self
             .hinges
-            .bent(rest, shape.own, OWN_CREASE_ANGLE)
+            .bent(rest, shape.own, &own_cosines, OWN_CREASE_ANGLE)
             .iter()
             .map(|bent| !bent)
             .collect();
-        let own_unturned: Vec<bool> = self
-            .hinges
-            .turned(rest, shape.own, OWN_FOLD_ANGLE)
+        let own_unturned: Vec<bool> = Hinges::turned(&own_cosines, OWN_FOLD_ANGLE)
             .iter()
             .map(|turned| !turned)
             .collect();
-        // A fold is never the person's: the mask is the surface a depth
-        // camera sees, which does not fold over itself.
-        let folded = |made: &[DVec3]| -> Vec<usize> {
-            self.hinges
-                .turned(rest, made, FOLD_ANGLE)
+        // The creased edges and the folded triangles of a state of the
+        // shape, its triangles' turns found once for both. A fold is never
+        // the person's: the mask is the surface a depth camera sees, which
+        // does not fold over itself.
+        let faults = |made: &[DVec3]| -> (Vec<usize>, Vec<usize>) {
+            let cosines = self.hinges.turn_cosines(rest, made);
+            let creased = self.creased(rest, (made, &cosines), &own_smooth, shape.mask_bend);
+            let folds = Hinges::turned(&cosines, FOLD_ANGLE)
                 .iter()
                 .zip(&own_unturned)
                 .enumerate()
                 .filter(|(_, (folded, unturned))| **folded && **unturned)
                 .map(|(t, _)| t)
-                .collect()
+                .collect();
+            (creased, folds)
         };
         let original = shape.made.to_vec();
-        let mut creased = self.creased(rest, shape.made, &own_smooth, shape.mask_bend);
-        let mut folds = folded(shape.made);
+        let (mut creased, mut folds) = faults(shape.made);
         let first = creased.len();
         // The best state so far: fewest folds, then fewest creases.
         let mut best = ((folds.len(), first), None::<Vec<DVec3>>);
@@ -214,8 +216,7 @@ impl CreaseSmoothing {
                     && self.rings.contains_key(&(v as u32));
             }
             self.fill(&region, shape.made, shape.retargeted)?;
-            creased = self.creased(rest, shape.made, &own_smooth, shape.mask_bend);
-            folds = folded(shape.made);
+            (creased, folds) = faults(shape.made);
             let score = (folds.len(), creased.len());
             if score < best.0 {
                 best = (score, Some(shape.made.to_vec()));

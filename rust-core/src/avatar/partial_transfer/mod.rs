@@ -463,6 +463,14 @@ fn smooth_creases(
 ) -> (usize, usize) {
     let n = scene.positions.len();
     let smoothing = CreaseSmoothing::new(&scene.positions, &scene.skin_triangles, scene.to_avatar);
+    let neutral = personalized.neutral();
+    let map = &scene.registration.map;
+    let mask_hinges = map
+        .mask_triangles
+        .iter()
+        .flatten()
+        .all(|&v| (v as usize) < neutral.len())
+        .then(|| Hinges::new(neutral, &map.mask_triangles));
     // The lips' edges (the skin's border where it is lip): where the lips
     // meet, part and press, the line the person's mouth draws.
     let lips = scene.registration.lip_sides();
@@ -479,7 +487,7 @@ fn smooth_creases(
         let mut counts = (0, 0);
         for (k, made) in shapes.iter_mut().enumerate() {
             let j = first + k;
-            let bend = mask_bend(scene, personalized, j);
+            let bend = mask_bend(scene, (personalized, mask_hinges.as_ref()), j);
             let mut held = lip_edges.clone();
             for opening in closing.of(j) {
                 for &v in opening.upper.iter().chain(&opening.lower) {
@@ -524,24 +532,22 @@ fn smooth_creases(
 
 /// For each avatar vertex, how much the person's shape `j` bends the mask
 /// at the mask triangle `M` takes the vertex to: the largest change of the
-/// dihedral angles at its three edges (radians; 0 off the face).
-fn mask_bend(scene: &Scene, personalized: &Blendshapes, j: usize) -> Vec<f64> {
-    let map = &scene.registration.map;
-    let neutral = personalized.neutral();
+/// dihedral angles at its three edges (radians; 0 off the face, or where
+/// the mask's `hinges` could not be made: a map naming vertices the
+/// neutral lacks).
+fn mask_bend(
+    scene: &Scene,
+    (personalized, hinges): (&Blendshapes, Option<&Hinges>),
+    j: usize,
+) -> Vec<f64> {
     let mut bend = vec![0.0; scene.positions.len()];
-    let (Some(shape), true) = (
-        Blendshape::ALL.get(j),
-        map.mask_triangles
-            .iter()
-            .flatten()
-            .all(|&v| (v as usize) < neutral.len()),
-    ) else {
+    let (Some(shape), Some(hinges)) = (Blendshape::ALL.get(j), hinges) else {
         return bend;
     };
-    let hinges = Hinges::new(neutral, &map.mask_triangles);
+    let neutral = personalized.neutral();
     let at_triangles =
         hinges.largest_at_triangles(&hinges.changes(neutral, personalized.delta(*shape)));
-    for f in &map.face {
+    for f in &scene.registration.map.face {
         if let (Some(b), Some(x)) = (
             bend.get_mut(f.vertex as usize),
             at_triangles.get(f.triangle as usize),

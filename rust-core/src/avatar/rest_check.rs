@@ -112,22 +112,15 @@ pub fn rest_creases(
     let rest: Vec<DVec3> = avatar.positions().iter().map(|p| p.as_dvec3()).collect();
     let hinges = Hinges::new(&rest, &triangles);
     let changes = hinges.changes(&rest, moved);
-    let pairs = hinges.pairs();
-    let edge_of = |[s, t]: [usize; 2]| {
-        let shared: Vec<u32> = triangles[s]
-            .into_iter()
-            .filter(|v| triangles[t].contains(v))
-            .collect();
-        (shared[0].min(shared[1]), shared[0].max(shared[1]))
-    };
-    let mut creased: Vec<(f64, (u32, u32))> = pairs
+    let mut creased: Vec<(f64, (u32, u32))> = hinges
+        .edges()
         .iter()
         .zip(&changes)
         .filter(|(_, change)| **change > REST_CREASE_ANGLE)
-        .map(|(pair, change)| (*change, edge_of(*pair)))
+        .map(|(edge, change)| (*change, *edge))
         .collect();
     let limit = (REST_CREASE_SHARE * head_edges(avatar, found).len() as f64).floor() as usize;
-    // The most changed, the first of equals (not the hash's order).
+    // The most changed, the first of equals.
     creased.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
     let worst = creased.first()?;
     (creased.len() > limit).then_some(RestCreases {

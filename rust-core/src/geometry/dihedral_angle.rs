@@ -7,11 +7,12 @@ use glam::DVec3;
 use std::collections::HashMap;
 
 /// The interior edges of `triangles`: for every edge that exactly two
-/// triangles share, the indices of the two (the smaller first), in the
-/// order of the edges' ends (smaller end, then larger), so the same mesh
-/// always gives the same list. An edge of one triangle (a border) or of
-/// three or more (non-manifold) has no dihedral angle and is left out.
-pub fn triangle_pairs(triangles: &[[u32; 3]]) -> Vec<[usize; 2]> {
+/// triangles share, its ends (the smaller first) and the indices of the
+/// two triangles (the smaller first), in the order of the edges' ends, so
+/// the same mesh always gives the same list. An edge of one triangle (a
+/// border) or of three or more (non-manifold) has no dihedral angle and
+/// is left out.
+pub fn triangle_pairs(triangles: &[[u32; 3]]) -> Vec<((u32, u32), [usize; 2])> {
     let mut sides: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
     for (k, t) in triangles.iter().enumerate() {
         for i in 0..3 {
@@ -27,7 +28,7 @@ pub fn triangle_pairs(triangles: &[[u32; 3]]) -> Vec<[usize; 2]> {
         .map(|(e, k)| (e, [k[0].min(k[1]), k[0].max(k[1])]))
         .collect();
     pairs.sort_unstable();
-    pairs.into_iter().map(|(_, p)| p).collect()
+    pairs
 }
 
 /// The dihedral angle (radians) between triangles `s` and `t` with their
@@ -50,6 +51,8 @@ pub fn dihedral(at: impl Fn(u32) -> DVec3, s: [u32; 3], t: [u32; 3]) -> f64 {
 #[derive(Clone, Debug)]
 pub struct Hinges {
     triangles: Vec<[u32; 3]>,
+    /// Each hinge's edge (its ends, the smaller first).
+    edges: Vec<(u32, u32)>,
     pairs: Vec<[usize; 2]>,
     at_rest: Vec<f64>,
     /// Each triangle's unit normal at rest (zero where degenerate).
@@ -59,7 +62,8 @@ pub struct Hinges {
 impl Hinges {
     /// The hinges of `triangles` with corners at `rest`.
     pub fn new(rest: &[DVec3], triangles: &[[u32; 3]]) -> Hinges {
-        let pairs = triangle_pairs(triangles);
+        let (edges, pairs): (Vec<(u32, u32)>, Vec<[usize; 2]>) =
+            triangle_pairs(triangles).into_iter().unzip();
         let at = |v: u32| rest[v as usize];
         let at_rest = pairs
             .iter()
@@ -68,6 +72,7 @@ impl Hinges {
         Hinges {
             normals: triangles.iter().map(|t| unit_normal(at, *t)).collect(),
             triangles: triangles.to_vec(),
+            edges,
             pairs,
             at_rest,
         }
@@ -81,6 +86,12 @@ impl Hinges {
     /// The pairs of triangles ([`triangle_pairs`]).
     pub fn pairs(&self) -> &[[usize; 2]] {
         &self.pairs
+    }
+
+    /// Each pair's shared edge (its ends, the smaller first), in the
+    /// order of [`Hinges::pairs`].
+    pub fn edges(&self) -> &[(u32, u32)] {
+        &self.edges
     }
 
     /// How much displacement `d` (one per vertex) changes each pair's
@@ -104,14 +115,6 @@ impl Hinges {
             .collect()
     }
 
-    /// How much displacement `d` changes the dihedral angle of pair `k`
-    /// (radians, absolute).
-    pub fn change(&self, rest: &[DVec3], d: &[DVec3], k: usize) -> f64 {
-        let moved = |v: u32| rest[v as usize] + d[v as usize];
-        let [s, t] = self.pairs[k];
-        (dihedral(moved, self.triangles[s], self.triangles[t]) - self.at_rest[k]).abs()
-    }
-
     /// The largest dihedral change `changes` (one per pair) at each
     /// triangle's three edges (0 for a triangle with no pair).
     pub fn largest_at_triangles(&self, changes: &[f64]) -> Vec<f64> {
@@ -127,7 +130,7 @@ impl Hinges {
     /// The cosine of the angle by which displacement `d` turns each
     /// triangle's normal; `None` for a triangle degenerate at rest or
     /// moved. Computed once per displacement, it serves
-    /// [`Hinges::turned`] and [`Hinges::bent`].
+    /// [`Hinges::turned`] and [`Hinges::changes_beyond`].
     pub fn turn_cosines(&self, rest: &[DVec3], d: &[DVec3]) -> Vec<Option<f64>> {
         let moved = |v: u32| rest[v as usize] + d[v as usize];
         self.triangles
@@ -159,20 +162,20 @@ impl Hinges {
             .collect()
     }
 
-    /// Whether displacement `d` changes each pair's dihedral angle by more
-    /// than `angle` (radians), given the triangles' turns under `d`
-    /// (`cosines`, [`Hinges::turn_cosines`]). The same as comparing
-    /// [`Hinges::changes`], measured only where it can be so: a dihedral
-    /// angle changes by at most the sum of the turns of its two
-    /// triangles' normals, so a pair whose triangles both turn by at most
-    /// `angle / 2` is not bent.
-    pub fn bent(
+    /// How much displacement `d` changes each pair's dihedral angle
+    /// (radians, absolute), measured only where it can exceed `angle`,
+    /// given the triangles' turns under `d` (`cosines`,
+    /// [`Hinges::turn_cosines`]): a dihedral angle changes by at most the
+    /// sum of the turns of its two triangles' normals, so a pair whose
+    /// triangles both turn by at most `angle / 2` is given 0 unmeasured.
+    /// Compared with `angle`, the same as [`Hinges::changes`].
+    pub fn changes_beyond(
         &self,
         rest: &[DVec3],
         d: &[DVec3],
         cosines: &[Option<f64>],
         angle: f64,
-    ) -> Vec<bool> {
+    ) -> Vec<f64> {
         let moved = |v: u32| rest[v as usize] + d[v as usize];
         let least = (angle / 2.0).cos();
         let turns_little: Vec<bool> = cosines
@@ -184,10 +187,10 @@ impl Hinges {
             .zip(&self.at_rest)
             .map(|(&[s, t], before)| {
                 if turns_little[s] && turns_little[t] {
-                    return false;
+                    return 0.0;
                 }
                 let (s, t) = (self.triangles[s], self.triangles[t]);
-                (dihedral(moved, s, t) - before).abs() > angle
+                (dihedral(moved, s, t) - before).abs()
             })
             .collect()
     }
@@ -221,7 +224,10 @@ mod tests {
         let (_, triangles) = hinge();
         // 0–1 is shared by triangles 0 and 1, 1–2 by 0 and 2; the rest
         // are borders.
-        assert_eq!(triangle_pairs(&triangles), vec![[0, 1], [0, 2]]);
+        assert_eq!(
+            triangle_pairs(&triangles),
+            vec![((0, 1), [0, 1]), ((1, 2), [0, 2])]
+        );
     }
 
     #[test]
@@ -235,8 +241,13 @@ mod tests {
         assert!((changes[0] - FRAC_PI_2).abs() < 1e-12, "{changes:?}");
         assert!(changes[1].abs() < 1e-12, "{changes:?}");
         let cosines = hinges.turn_cosines(&rest, &d);
-        assert_eq!(hinges.bent(&rest, &d, &cosines, 1.5), vec![true, false]);
-        assert_eq!(hinges.bent(&rest, &d, &cosines, 1.6), vec![false, false]);
+        let bent = |angle: f64| -> Vec<bool> {
+            let changes = hinges.changes_beyond(&rest, &d, &cosines, angle);
+            changes.iter().map(|c| *c > angle).collect()
+        };
+        assert_eq!(bent(1.5), vec![true, false]);
+        assert_eq!(bent(1.6), vec![false, false]);
+        assert_eq!(hinges.edges(), &[(0, 1), (1, 2)]);
         // Only the wing turns, by a right angle.
         assert_eq!(Hinges::turned(&cosines, 1.5), vec![false, true, false]);
         assert_eq!(Hinges::turned(&cosines, 1.6), vec![false, false, false]);

@@ -8,7 +8,7 @@ pub(crate) mod face_grid;
 use crate::geometry::topology::Topology;
 use face_grid::Grid;
 pub(crate) use face_grid::Hole;
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 
 /// Cell size of [`grid_with_holes`] (m).
 pub(crate) const CELL: f32 = 0.01;
@@ -75,4 +75,22 @@ pub(crate) fn stretch_session(topology: Topology, neutral: Vec<Vec3>) -> crate::
         truth: None,
     })
     .expect("valid session")
+}
+
+/// A flat sheet of `columns × rows` unit squares' corners in the
+/// xy-plane, two triangles per square, vertex `(i, j)` at index
+/// `j · columns + i`: the smallest surface to bend and smooth.
+pub(crate) fn flat_sheet(columns: usize, rows: usize) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+    let at = |i: usize, j: usize| (j * columns + i) as u32;
+    let mut triangles = Vec::new();
+    for j in 0..rows - 1 {
+        for i in 0..columns - 1 {
+            triangles.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+            triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+        }
+    }
+    let positions = (0..rows)
+        .flat_map(|j| (0..columns).map(move |i| DVec3::new(i as f64, j as f64, 0.0)))
+        .collect();
+    (positions, triangles)
 }

@@ -209,17 +209,9 @@ mod tests {
     use super::*;
 
     /// A flat strip of `columns × rows` unit squares' corners, two
-    /// triangles per square, vertex `(i, j)` at index `j · columns + i`.
+    /// triangles per square ([`crate::test_support::flat_sheet`]).
     fn strip(columns: usize, rows: usize) -> Vec<[u32; 3]> {
-        let at = |i: usize, j: usize| (j * columns + i) as u32;
-        let mut triangles = Vec::new();
-        for j in 0..rows - 1 {
-            for i in 0..columns - 1 {
-                triangles.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
-                triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
-            }
-        }
-        triangles
+        crate::test_support::flat_sheet(columns, rows).1
     }
 
     /// The face (columns 0–5) moves by one; `A_j` is zero everywhere; `N`

@@ -144,18 +144,20 @@ impl CreaseSmoothing {
                 .fold(0.0, f64::max)
         };
         self.hinges
-            .bent(rest, made, cosines, CREASE_ANGLE)
+            .changes_beyond(rest, made, cosines, CREASE_ANGLE)
             .iter()
             .zip(own_smooth)
             .enumerate()
-            .filter(|(_, (bent, smooth))| **bent && **smooth)
+            .filter(|(k, (change, smooth))| {
+                **smooth && **change > CREASE_ANGLE && **change > allowed(*k) + OWN_CREASE_ANGLE
+            })
             .map(|(k, _)| k)
-            .filter(|&k| self.hinges.change(rest, made, k) > allowed(k) + OWN_CREASE_ANGLE)
             .collect()
     }
 
     /// Smooths the creases of one shape (module docs), `rest` the avatar at
-    /// rest. Returns the creased edges found first and left at the end.
+    /// rest. Returns the creased edges found first and left at the end; on
+    /// an error the shape is left as it was made.
     pub fn smooth(
         &self,
         rest: &[DVec3],
@@ -164,9 +166,9 @@ impl CreaseSmoothing {
         let own_cosines = self.hinges.turn_cosines(rest, shape.own);
         let own_smooth: Vec<bool> = self
             .hinges
-            .bent(rest, shape.own, &own_cosines, OWN_CREASE_ANGLE)
+            .changes_beyond(rest, shape.own, &own_cosines, OWN_CREASE_ANGLE)
             .iter()
-            .map(|bent| !bent)
+            .map(|change| *change <= OWN_CREASE_ANGLE)
             .collect();
         let own_unturned: Vec<bool> = Hinges::turned(&own_cosines, OWN_FOLD_ANGLE)
             .iter()
@@ -215,7 +217,10 @@ impl CreaseSmoothing {
                     && !shape.held.get(v).copied().unwrap_or(false)
                     && self.rings.contains_key(&(v as u32));
             }
-            self.fill(&region, shape.made, shape.retargeted)?;
+            if let Err(e) = self.fill(&region, shape.made, shape.retargeted) {
+                shape.made.copy_from_slice(&original);
+                return Err(e);
+            }
             (creased, folds) = faults(shape.made);
             let score = (folds.len(), creased.len());
             if score < best.0 {
@@ -300,23 +305,7 @@ impl CreaseSmoothing {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// A flat sheet of `columns × rows` unit squares in the xy-plane, two
-    /// triangles per square, vertex `(i, j)` at index `j · columns + i`.
-    fn sheet(columns: usize, rows: usize) -> (Vec<DVec3>, Vec<[u32; 3]>) {
-        let at = |i: usize, j: usize| (j * columns + i) as u32;
-        let mut triangles = Vec::new();
-        for j in 0..rows - 1 {
-            for i in 0..columns - 1 {
-                triangles.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
-                triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
-            }
-        }
-        let positions = (0..rows)
-            .flat_map(|j| (0..columns).map(move |i| DVec3::new(i as f64, j as f64, 0.0)))
-            .collect();
-        (positions, triangles)
-    }
+    use crate::test_support::flat_sheet as sheet;
 
     /// Columns 10 and on lifted by 3 in one step: the squares between
     /// columns 9 and 10 stand at 72°, a crease along each side of them.

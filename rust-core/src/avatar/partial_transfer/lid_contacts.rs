@@ -490,6 +490,18 @@ impl ClosingEyes {
         self.per_shape.get(j).map_or(&[], Vec::as_slice)
     }
 
+    /// Marks in `held` (one per avatar vertex) the lid vertices of the
+    /// openings shape `j` (Apple's order) closes.
+    pub fn hold(&self, j: usize, held: &mut [bool]) {
+        for opening in self.of(j) {
+            for &v in opening.upper.iter().chain(&opening.lower) {
+                if let Some(h) = held.get_mut(v as usize) {
+                    *h = true;
+                }
+            }
+        }
+    }
+
     /// Closes, in every shape's `data[j]`, the eyes it closes: [`ROUNDS`]
     /// times, pairs from `at(j, data, v)` (`None`: not known there), then
     /// `close(j, data, contacts)`. Stops at the first `close` that fails.

@@ -489,17 +489,10 @@ fn smooth_creases(
             let j = first + k;
             let bend = mask_bend(scene, (personalized, mask_hinges.as_ref()), j);
             let mut held = lip_edges.clone();
-            for opening in closing.of(j) {
-                for &v in opening.upper.iter().chain(&opening.lower) {
-                    if let Some(h) = held.get_mut(v as usize) {
-                        *h = true;
-                    }
-                }
-            }
+            closing.hold(j, &mut held);
             closed_lids.hold(j, &mut held);
             let retargeted = &scene.retargeted[j];
             let own = scene.own_shapes[j].as_deref().unwrap_or(retargeted);
-            let before = made.clone();
             let shape = ShapeToSmooth {
                 made,
                 own,
@@ -507,12 +500,10 @@ fn smooth_creases(
                 held: &held,
                 mask_bend: &bend,
             };
-            match smoothing.smooth(&scene.positions, shape) {
-                Ok((found, left)) => {
-                    counts.0 += found;
-                    counts.1 += left;
-                }
-                Err(_) => *made = before,
+            // A shape whose region cannot be solved is left as it was made.
+            if let Ok((found, left)) = smoothing.smooth(&scene.positions, shape) {
+                counts.0 += found;
+                counts.1 += left;
             }
         }
         counts

@@ -85,6 +85,10 @@ struct Summary {
     face_points_left_out: Option<usize>,
     registration_residual_mean_mm: f64,
     registration_residual_max_mm: f64,
+    /// The avatar's shapes that move elsewhere on the face than ARKit's of
+    /// the same name, left out of placing the mask, with how far off each
+    /// was (share of the eye distance).
+    features_left_out: Vec<(String, f64)>,
     registration_cached: bool,
     registration_seconds: f64,
     retarget_weight_min: f64,
@@ -472,6 +476,11 @@ pub fn avatar_command(args: &AvatarArgs) -> CliResult {
         face_points_left_out: made.taken_face.as_ref().map(|t| t.points_left_out.len()),
         registration_residual_mean_mm: registration.residual_mean_mm,
         registration_residual_max_mm: registration.residual_max_mm,
+        features_left_out: registration
+            .features_left_out
+            .iter()
+            .map(|(b, off)| (b.name().to_string(), *off))
+            .collect(),
         registration_cached: was_cached,
         registration_seconds: registration.seconds,
         retarget_weight_min: lo,
@@ -618,6 +627,16 @@ fn print_summary(s: &Summary) {
             format!(" ({:.2} s)", s.registration_seconds)
         }
     );
+    if !s.features_left_out.is_empty() {
+        println!(
+            "Not used to place the face (the avatar moves them elsewhere than ARKit does): {}",
+            s.features_left_out
+                .iter()
+                .map(|(name, off)| format!("{name} ({:.0}% of the eye distance off)", 100.0 * off))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
     println!("Parts: {}", parts_line(&s.parts));
     println!(
         "Retargeting (Eq. 4, weights bounded to [0, 1]): {:.3} … {:.3}; worst residual {:.2} of the person's motion ({}; motion under 1 mm counted as 1 mm)",

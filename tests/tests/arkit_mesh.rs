@@ -1,7 +1,7 @@
 //! The avatar stage for people on ARKit's own mesh, the one a real iPhone
 //! sends (`../shared/arkit-face/`, never committed): five simulated people
 //! ([`likeness_tests::arkit_people`]) on the default avatar, on every
-//! generated variant and on ICT-FaceKit. Each test skips, saying so, where
+//! generated variant, on ICT-FaceKit and on the MPFB/MakeHuman body. Each test skips, saying so, where
 //! `../shared/` is absent, and fails there under CI (`CI=true`).
 
 use likeness::avatar::glb::read::{GlbAvatar, read_avatar_bytes};
@@ -11,21 +11,21 @@ use likeness::avatar::personal_avatar::{
 use likeness::avatar::registration::find_face;
 use likeness_sim::avatar_variants::avatar_variants;
 use likeness_tests::arkit_people::{ArkitPerson, arkit_people};
-use likeness_tests::shared_avatars::ict_facekit;
+use likeness_tests::shared_avatars::shared_avatars;
 
 fn default_glb() -> GlbAvatar {
     let bytes = likeness_sim::default_avatar::default_avatar_glb().expect("builds");
     read_avatar_bytes(&bytes, "default avatar").expect("reads")
 }
 
-/// The default avatar, every generated variant, and ICT-FaceKit where
-/// `../shared/avatars/` has it.
+/// The default avatar, every generated variant, and ICT-FaceKit and the
+/// MPFB/MakeHuman body where `../shared/avatars/` has them.
 fn every_avatar() -> Vec<GlbAvatar> {
     let mut avatars = vec![default_glb()];
     for v in avatar_variants() {
         avatars.push(read_avatar_bytes(&v.glb, v.name).expect("a variant reads"));
     }
-    avatars.extend(ict_facekit());
+    avatars.extend(shared_avatars());
     avatars
 }
 
@@ -206,14 +206,7 @@ fn people_on_arkits_mesh_are_checked_on_every_avatar() {
         for person in people {
             let made = made(&glb, person, face)
                 .unwrap_or_else(|e| panic!("{name}, seed {}: {e}", person.seed));
-            let faults: Vec<String> = made
-                .warnings
-                .iter()
-                .filter_map(|w| match w {
-                    AvatarWarning::Fault(f) => Some(f.to_string()),
-                    _ => None,
-                })
-                .collect();
+            let faults: Vec<String> = made.faults().map(|f| f.to_string()).collect();
             eprintln!(
                 "{name}, seed {}: {} faults {faults:?}",
                 person.seed,
@@ -233,7 +226,11 @@ fn people_on_arkits_mesh_are_checked_on_every_avatar() {
             // skin into the avatar's, and the mapped gradient folded what
             // the person's shape did not (`partial_transfer::face_step`);
             // and Eq. (4) drove the avatar's own browDownLeft at 2.7
-            // (`retargeting`, weights now in [0, 1]). ICT-FaceKit, made by
+            // (`retargeting`, weights now in [0, 1]). On the MPFB/MakeHuman
+            // body the lid contacts closed the loop 4 mm inside its lids,
+            // and three of the five blinks left 2.2–2.9% of an eyeball seen
+            // (limit 2.0): those eyes now take MPFB's own closed lids
+            // (`partial_transfer::still_closed`). ICT-FaceKit, made by
             // others, still has faults at its mouth (the notes).
             if !name.contains("ict-facekit") {
                 assert!(

@@ -50,14 +50,7 @@ fn a_brow_the_person_folds_comes_down_without_a_flap() {
         &mut |_| true,
     )
     .expect("an avatar");
-    let faults: Vec<&Fault> = made
-        .warnings
-        .iter()
-        .filter_map(|w| match w {
-            AvatarWarning::Fault(f) => Some(f),
-            _ => None,
-        })
-        .collect();
+    let faults: Vec<&Fault> = made.faults().collect();
     assert!(faults.is_empty(), "{faults:?}");
     let implanted = made.implanted.as_ref().expect("personalized");
     eprintln!(

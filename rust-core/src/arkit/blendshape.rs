@@ -21,7 +21,7 @@ macro_rules! blendshapes {
     ($($variant:ident = $name:literal, $mirror:ident;)*) => {
         /// One of ARKit's 52 facial blendshapes; the discriminant is its index
         /// in Apple's documented order.
-        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize, serde::Deserialize)]
         #[repr(u8)]
         pub enum Blendshape {
             $(#[doc = concat!("`", $name, "`")] $variant,)*

@@ -23,6 +23,7 @@ use super::registration::FaceRegistration;
 use super::registration::find_face::arkit_displacement;
 use crate::arkit::Blendshape;
 use crate::geometry::closest_point::TriangleTree;
+use crate::geometry::inside_surface::inside;
 use crate::personalize::blendshape_fit::in_parallel_map;
 use glam::{DVec3, Vec3};
 use std::fmt;
@@ -417,12 +418,7 @@ impl EyeProbe {
                 if (p - centre).length() > radius {
                     return 0.0;
                 }
-                match grid.closest(p) {
-                    Some(c) if (p - c.point).dot(grid.triangle_normal(c.triangle)) < 0.0 => {
-                        c.distance
-                    }
-                    _ => 0.0,
-                }
+                inside(&grid, p).map_or(0.0, |(c, _)| (c - p).length())
             })
             .collect()
     }
@@ -479,6 +475,39 @@ pub fn on_left(rest: &[Vec3], found: &FaceRegistration, eye: &[u32]) -> bool {
     (found.similarity.rotation.transpose() * (c - found.similarity.translation)).x > 0.0
 }
 
+/// The eyes blink `b` (`eyeBlinkLeft` or `eyeBlinkRight`; nothing for any
+/// other shape) leaves more of the eyeball seen from the front under `got`
+/// than under the avatar's own blink `own` (both per avatar vertex), by
+/// more than [`BLINK_SLACK`].
+pub fn open_blinks(
+    avatar: &Avatar,
+    found: &FaceRegistration,
+    b: Blendshape,
+    (own, got): (&[Vec3], &[Vec3]),
+) -> Vec<Fault> {
+    let left = match b {
+        Blendshape::EyeBlinkLeft => true,
+        Blendshape::EyeBlinkRight => false,
+        _ => return Vec::new(),
+    };
+    let rest = avatar.positions();
+    let forward = found.similarity.rotation * DVec3::Z;
+    found
+        .eyeballs
+        .iter()
+        .filter(|e| on_left(&rest, found, e) == left)
+        .filter_map(|eye| {
+            let own_seen = eyeball_seen_share(avatar, found, eye, own, forward);
+            let got_seen = eyeball_seen_share(avatar, found, eye, got, forward);
+            (got_seen > own_seen + BLINK_SLACK).then_some(Fault::BlinkOpen {
+                shape: b,
+                own: own_seen,
+                personalized: got_seen,
+            })
+        })
+        .collect()
+}
+
 /// Checks the person's `shapes` (displacements per avatar vertex, Apple's
 /// order) on `avatar` found as `found` against the avatar's own (module
 /// docs); `relative_residual` is Eq. (4)'s per shape, already floored.
@@ -495,7 +524,6 @@ pub fn check_shapes(
     // Skin that moves less than a quarter of the lid limit cannot take a
     // lid past it.
     let still = 0.25 * LID_DEPTH_MM / to_mm;
-    let forward = found.similarity.rotation * DVec3::Z;
     let torn_limit = (TORN_SHARE * edges.len() as f64) as usize;
     let folded_limit = (FOLDED_SHARE * triangles.len() as f64) as usize;
     let probes: Vec<EyeProbe> = found
@@ -537,28 +565,7 @@ pub fn check_shapes(
                 });
             }
         }
-        let blink_side = match b {
-            Blendshape::EyeBlinkLeft => Some(true),
-            Blendshape::EyeBlinkRight => Some(false),
-            _ => None,
-        };
-        if let Some(left) = blink_side {
-            for eye in found
-                .eyeballs
-                .iter()
-                .filter(|e| on_left(&rest, found, e) == left)
-            {
-                let own_seen = eyeball_seen_share(avatar, found, eye, &own, forward);
-                let got_seen = eyeball_seen_share(avatar, found, eye, got, forward);
-                if got_seen > own_seen + BLINK_SLACK {
-                    faults.push(Fault::BlinkOpen {
-                        shape: b,
-                        own: own_seen,
-                        personalized: got_seen,
-                    });
-                }
-            }
-        }
+        faults.extend(open_blinks(avatar, found, b, (&own, got)));
         if let Some(r) = relative_residual
             .get(b.index())
             .filter(|r| **r > MAX_RELATIVE_RESIDUAL)

@@ -287,6 +287,7 @@ mod tests {
                 translation: DVec3::ZERO,
             },
             mask_on_avatar: vec![DVec3::ZERO; 3],
+            features_left_out: Vec::new(),
             map: CorrespondenceMap {
                 mask_triangles: vec![[0, 1, 2]],
                 face: vec![

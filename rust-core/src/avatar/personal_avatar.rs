@@ -271,6 +271,15 @@ pub struct PersonalAvatar {
 }
 
 impl PersonalAvatar {
+    /// The shapes past a limit of the check on the result
+    /// ([`crate::avatar::implant_check`]), among the warnings.
+    pub fn faults(&self) -> impl Iterator<Item = &Fault> {
+        self.warnings.iter().filter_map(|w| match w {
+            AvatarWarning::Fault(f) => Some(f),
+            _ => None,
+        })
+    }
+
     /// The avatar the shapes were implanted into: `stock` (the avatar as
     /// read), or it with the person's face at rest.
     pub fn shaped<'a>(&'a self, stock: &'a Avatar) -> &'a Avatar {

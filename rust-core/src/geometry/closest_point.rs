@@ -218,6 +218,11 @@ impl TriangleTree {
         &self.triangles
     }
 
+    /// Each triangle's corners, in [`TriangleTree::triangles`]' order.
+    pub fn corners(&self) -> &[[DVec3; 3]] {
+        &self.corners
+    }
+
     /// The unit normal of triangle `t` (of [`TriangleTree::triangles`]),
     /// zero for a degenerate or unknown triangle.
     pub fn triangle_normal(&self, t: usize) -> DVec3 {

@@ -20,6 +20,8 @@
 //! | every linear solve (Eq. 4's transfers, both steps of §3.3, the registration) | one sparse Cholesky factorization; a fixed pattern analysed once and refilled | [`sparse_cholesky`] |
 //! | §3.3, Eq. 4 with the weights in `[0, 1]` (beyond the paper) | a convex quadratic's least over a box (primal–dual active set) | [`box_quadratic`] |
 //! | §3.3, eyeballs found by their shape | algebraic least-squares sphere (Kåsa 1976) | [`sphere_fit`] |
+//! | §3.3, a lid inside an eyeball whose shell is open | the generalized winding number (Jacobson et al. 2013) | [`winding_number`] |
+//! | §3.3, a lid inside an eyeball: which side, how deep | the closest triangle's side and the winding number | [`inside_surface`] |
 
 pub mod box_quadratic;
 pub mod closest_point;
@@ -29,6 +31,7 @@ pub mod deformation_transfer;
 pub mod dihedral_angle;
 pub mod edge_distance;
 pub mod front_visibility;
+pub mod inside_surface;
 pub mod laplacian;
 pub mod mesh_boundary;
 pub mod one_ring;
@@ -36,5 +39,6 @@ pub mod self_intersection;
 pub mod sparse_cholesky;
 pub mod sphere_fit;
 pub mod topology;
+pub mod winding_number;
 
 pub use topology::{GeometryError, Topology, TopologyError};

@@ -7,8 +7,11 @@
 //! Inside is judged against the eyeball's own triangles as displaced by the
 //! same shape (an eyeLook turns the eyeball too): with `c` the closest
 //! eyeball point to skin vertex `p` and `n` the outward normal of the
-//! triangle it lies on, `p` is inside when `(p − c) · n < 0`. Eyeball parts
-//! are closed and face outwards (the default avatar's are tested so); only
+//! triangle it lies on, `p` is inside when `(p − c) · n < 0` and the
+//! eyeball winds round `p` ([`crate::geometry::inside_surface`]). Eyeball
+//! parts face outwards (the
+//! default avatar's are tested so; MakeHuman's shells are open at the
+//! back, which the winding number tells); only
 //! skin vertices within the eyeball's radius plus [`NEAR_MM`] of its centre
 //! at rest, and within its bounding sphere in the shape, are looked at (an
 //! eyeball turns about its centre, so the sphere holds it in every shape),
@@ -20,6 +23,7 @@
 //! however it rests.
 
 use crate::geometry::closest_point::TriangleTree;
+use crate::geometry::inside_surface::{depth, inside};
 use glam::DVec3;
 
 /// How far outside the eyeball a repaired lid vertex is put (mm at the
@@ -175,20 +179,6 @@ pub fn repair_eyelids(
     changes.len()
 }
 
-/// How far `p` lies inside the closed surface `tree` (zero outside):
-/// along the normal of the closest point's triangle.
-pub fn depth(tree: &TriangleTree, p: DVec3) -> f64 {
-    inside(tree, p).map_or(0.0, |(c, normal)| (c - p).dot(normal))
-}
-
-/// The closest point of `tree` to `p` and its triangle's normal, if `p`
-/// is on the inner side of it.
-fn inside(tree: &TriangleTree, p: DVec3) -> Option<(DVec3, DVec3)> {
-    let c = tree.closest(p)?;
-    let normal = tree.triangle_normal(c.triangle);
-    ((p - c.point).dot(normal) < 0.0).then_some((c.point, normal))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -287,5 +277,27 @@ mod tests {
             Eyeball::new(&padded[..17], shifted).tree.triangles().len(),
             6
         );
+    }
+
+    #[test]
+    fn beside_an_open_shells_opening_is_not_inside() {
+        // The cube without its back (z = −½), as an eyeball shell open
+        // behind (MakeHuman's): a point behind the opening, beside the
+        // rim, lies on the inner side of the rim's closest triangle but in
+        // no eyeball; one just under the front face is inside.
+        let (rest, triangles) = cube();
+        let open: Vec<[u32; 3]> = triangles[2..].to_vec();
+        let tree = TriangleTree::new(&rest, &open);
+        let behind = DVec3::new(0.45, 0.0, -0.6);
+        let c = tree.closest(behind).expect("a mesh");
+        assert!((behind - c.point).dot(tree.triangle_normal(c.triangle)) < 0.0);
+        assert_eq!(inside(&tree, behind), None);
+        assert_eq!(depth(&tree, behind), 0.0);
+        let under_front = DVec3::new(0.1, 0.1, 0.4);
+        assert!((depth(&tree, under_front) - 0.1).abs() < 1e-12);
+        // Closed, the same points as before.
+        let closed = TriangleTree::new(&rest, &triangles);
+        assert_eq!(depth(&closed, behind), 0.0);
+        assert!((depth(&closed, under_front) - 0.1).abs() < 1e-12);
     }
 }

@@ -47,6 +47,7 @@ pub mod lid_contacts;
 pub mod rigid_parts;
 pub mod stay_put;
 
+use super::implant_check::open_blinks;
 use super::model::Avatar;
 use super::own_shapes::{MaskOnSkin, face_part_triangles};
 use super::registration::FaceRegistration;
@@ -55,6 +56,7 @@ use super::registration::mask_holes::boundary_edges;
 use super::retargeting::{NegligibleLength, RetargetError, Retargeting, mapped_shapes};
 use crate::arkit::{Blendshape, Blendshapes};
 use crate::geometry::dihedral_angle::Hinges;
+use crate::geometry::mesh_boundary::EyeHole;
 use crate::geometry::sparse_cholesky::FactorError;
 use crate::personalize::blendshape_fit::{in_parallel_chunks, in_parallel_ranges};
 use adjacent_step::AdjacentStep;
@@ -64,7 +66,7 @@ use eyelid_repair::{Eyeball, LID_OFFSET_MM, NEAR_MM, repair_eyelids};
 use face_step::{FaceStep, FaceStepError};
 use glam::{DVec3, Vec3};
 use lid_contacts::{ClosingEyes, LidClosingError, mask_eye_holes};
-use rigid_parts::make_rigid;
+use rigid_parts::hold_rigid;
 use stay_put::{FADE_MM, STILL_MM, StillFade};
 
 /// Skin within this distance of the face region (mm at the mask's scale,
@@ -170,12 +172,13 @@ pub fn implant(
     let adjacent = adjacent_step(&scene, &face, &mut full).map_err(ImplantError::Adjacent)?;
     close_lids_next_to_face(&scene, &adjacent, &closing, &mut full)
         .map_err(ImplantError::AdjacentLids)?;
+    let closed_by_contacts = still_closed(&scene, &closing, (&holes, template_neutral), &full);
     let closed_lids = ClosedLids::new(
         &scene.own_shapes,
         (&scene.positions, &scene.in_face_parts, scene.to_avatar),
         &on_skin,
         personalized,
-        (&holes, closing.found()),
+        (&holes, &closed_by_contacts),
     );
     closed_lids.apply(&mut full);
     let still_faded = stay_put_step(&scene, &mapped, &mut full);
@@ -202,6 +205,57 @@ pub fn implant(
         rigid_pieces,
         rigid_deviation_removed,
     })
+}
+
+/// The mask's eye holes whose opening the lid contacts found and closed
+/// ([`ClosingEyes::found`]) and whose blink (`eyeBlinkLeft` for the hole on
+/// the mask's +x side) then leaves no more of the eyeball seen than the
+/// avatar's own blink does, within the check's slack
+/// ([`crate::avatar::implant_check::open_blinks`]). The others take the
+/// avatar's own closed lids ([`ClosedLids`]): where the opening found is
+/// not the lids' visible edge (MakeHuman's lids fold 4 mm inwards from
+/// their margins to the loop the contacts close), the margins stayed a
+/// slit apart and 2.2–2.9% of the eyeball stayed seen, where MakeHuman's
+/// own blink shows none.
+fn still_closed(
+    scene: &Scene,
+    closing: &ClosingEyes,
+    (holes, template_neutral): (&[EyeHole], &[DVec3]),
+    full: &[Vec<DVec3>],
+) -> Vec<usize> {
+    closing
+        .found()
+        .iter()
+        .copied()
+        .filter(|&h| {
+            let Some(hole) = holes.get(h) else {
+                return false;
+            };
+            let x: f64 = hole
+                .upper
+                .iter()
+                .filter_map(|&v| template_neutral.get(v as usize))
+                .map(|p| p.x)
+                .sum();
+            let blink = match x > 0.0 {
+                true => Blendshape::EyeBlinkLeft,
+                false => Blendshape::EyeBlinkRight,
+            };
+            let (Some(Some(own)), Some(got)) =
+                (scene.own_shapes.get(blink.index()), full.get(blink.index()))
+            else {
+                return true;
+            };
+            let single = |d: &[DVec3]| d.iter().map(|x| x.as_vec3()).collect::<Vec<Vec3>>();
+            open_blinks(
+                scene.avatar,
+                scene.registration,
+                blink,
+                (&single(own), &single(got)),
+            )
+            .is_empty()
+        })
+        .collect()
 }
 
 /// What every step reads of the avatar: its rest positions in double
@@ -569,7 +623,7 @@ fn hold_rigid_pieces(
         .iter()
         .map(|piece| {
             full.iter_mut()
-                .map(|d| make_rigid(&scene.positions, d, &piece.vertices))
+                .map(|d| hold_rigid(&scene.positions, d, piece))
                 .fold(0.0, f64::max)
         })
         .collect();

@@ -10,7 +10,8 @@
 //! sink into the sclera where their fits differ. `A_j` mixes several targets, and
 //! a sum of rotations is not a rotation: a rigid part's displacement in a
 //! shape is replaced by the rigid motion closest to it (least squares,
-//! [`fit_rigid`]). The largest deviation from a rigid motion, before and
+//! [`fit_rigid`]), unless it is already as near a rigid motion as the
+//! rig's own targets keep the piece ([`hold_rigid`]). The largest deviation from a rigid motion, before and
 //! after, is reported per shape.
 
 use crate::avatar::model::Avatar;
@@ -27,6 +28,11 @@ pub struct RigidPiece {
     pub part: usize,
     /// Its avatar vertices (global indices), increasing.
     pub vertices: Vec<u32>,
+    /// The most any own target deviates from a rigid motion on it
+    /// ([`rigid_deviation`], avatar units): how rigid the rig itself keeps
+    /// it. A rig's eyeLook targets are often sculpted, not turned
+    /// (MakeHuman's deviate by 0.4 mm on a 29 mm eyeball).
+    pub own_deviation: f64,
 }
 
 /// The rigid pieces of `avatar` (rest `positions`, own target
@@ -77,9 +83,19 @@ pub fn rigid_pieces(
                 })
             });
             if joined.is_none() {
-                pieces.push(RigidPiece { part: i, vertices });
+                pieces.push(RigidPiece {
+                    part: i,
+                    vertices,
+                    own_deviation: 0.0,
+                });
             }
         }
+    }
+    for piece in &mut pieces {
+        piece.own_deviation = own
+            .iter()
+            .map(|d| rigid_deviation(positions, d, &piece.vertices))
+            .fold(0.0, f64::max);
     }
     pieces
 }
@@ -146,6 +162,26 @@ pub fn rigid_deviation(rest: &[DVec3], displacement: &[DVec3], vertices: &[u32])
             .fold(0.0, f64::max),
         None => 0.0,
     }
+}
+
+/// Relative slack on [`RigidPiece::own_deviation`] within which a shape
+/// counts as as rigid as the rig's own ([`hold_rigid`]).
+pub const OWN_DEVIATION_SLACK: f64 = 1e-6;
+
+/// Replaces the displacement of `piece`'s vertices by the rigid motion
+/// closest to it, unless it already lies as close to a rigid motion as
+/// the rig's own targets do ([`RigidPiece::own_deviation`]: the rig's own
+/// shape given back is the rig's own). Returns the largest deviation that
+/// was removed.
+pub fn hold_rigid(rest: &[DVec3], displacement: &mut [DVec3], piece: &RigidPiece) -> f64 {
+    // The rig's own shape comes back through Eq. (4) with weights a few
+    // ulps from one and the other targets' a few ulps from zero: within
+    // [`OWN_DEVIATION_SLACK`] of the own deviation is the own.
+    let allowed = piece.own_deviation * (1.0 + OWN_DEVIATION_SLACK);
+    if rigid_deviation(rest, displacement, &piece.vertices) <= allowed {
+        return 0.0;
+    }
+    make_rigid(rest, displacement, &piece.vertices)
 }
 
 /// Replaces the displacement of `vertices` by the rigid motion closest to
@@ -219,6 +255,37 @@ mod tests {
         assert!(rigid_deviation(&rest, &doubled, &vertices) > 0.05);
         make_rigid(&rest, &mut doubled, &vertices);
         assert!(rigid_deviation(&rest, &doubled, &vertices) < 1e-12);
+    }
+
+    #[test]
+    fn a_shape_as_near_rigid_as_the_rigs_own_is_kept() {
+        // A rig whose own target turns the piece and bends one vertex a
+        // little (sculpted, not turned): the same shape given back is kept
+        // as it is; twice the bend is made rigid.
+        let rest: Vec<DVec3> = (0..20)
+            .map(|i| {
+                let f = i as f64;
+                DVec3::new((f * 0.9).sin(), (f * 0.4).cos(), (f * 1.7).sin() * 0.3)
+            })
+            .collect();
+        let mut sculpted: Vec<DVec3> = rest
+            .iter()
+            .map(|p| DMat3::from_rotation_y(0.2) * *p - *p)
+            .collect();
+        sculpted[3] += DVec3::new(0.0, 0.02, 0.0);
+        let piece = RigidPiece {
+            part: 0,
+            vertices: (0..20).collect(),
+            own_deviation: rigid_deviation(&rest, &sculpted, &(0..20).collect::<Vec<_>>()),
+        };
+        assert!(piece.own_deviation > 0.01);
+        let mut same = sculpted.clone();
+        assert_eq!(hold_rigid(&rest, &mut same, &piece), 0.0);
+        assert_eq!(same, sculpted);
+        let mut more = sculpted.clone();
+        more[3] += DVec3::new(0.0, 0.02, 0.0);
+        assert!(hold_rigid(&rest, &mut more, &piece) > 0.02);
+        assert!(rigid_deviation(&rest, &more, &piece.vertices) < 1e-12);
     }
 
     #[test]

@@ -32,11 +32,12 @@
 //!   scaling and shift per group. A group no skin is near stays.
 
 use crate::avatar::model::Avatar;
-use crate::avatar::partial_transfer::eyelid_repair::{Eyeball, LID_OFFSET_MM, NEAR_MM, depth};
+use crate::avatar::partial_transfer::eyelid_repair::{Eyeball, LID_OFFSET_MM, NEAR_MM};
 use crate::avatar::partial_transfer::rigid_parts::{RIGID_TOLERANCE, rigid_deviation, size};
 use crate::avatar::registration::FaceRegistration;
 use crate::geometry::closest_point::TriangleTree;
 use crate::geometry::connected_components::component_vertices;
+use crate::geometry::inside_surface::depth;
 use glam::DVec3;
 use std::collections::HashSet;
 

@@ -8,6 +8,7 @@ use super::correspondence::CorrespondenceMap;
 use super::lip_sides::LipSides;
 use super::part_roles::PartRole;
 use super::similarity::Similarity;
+use crate::arkit::Blendshape;
 use crate::avatar::model::Avatar;
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
@@ -29,6 +30,10 @@ pub struct FoundFace {
     pub residual_max_mm: f64,
     /// ICP iterations run.
     pub icp_iterations: usize,
+    /// The avatar's optional features that disagreed with the mask's and
+    /// were left out of the placement ([`super::feature_fit`]), with how
+    /// far each lay from its partner (share of the eye distance).
+    pub features_left_out: Vec<(Blendshape, f64)>,
     /// Each part's role ([`super::part_roles`]), in [`Avatar::parts`]
     /// order.
     pub roles: Vec<PartRole>,

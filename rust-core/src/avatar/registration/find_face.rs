@@ -32,6 +32,7 @@
 use super::correspondence::correspondence_map;
 use super::eyeballs::find_eyeballs;
 use super::face_registration::{FaceRegistration, FoundFace, InvalidRegistration};
+use super::feature_fit::{FeatureFitError, FeaturePair, fit_features};
 use super::features::{HELD, REQUIRED, feature_weights, rig_features};
 use super::jaw_agreement::{MouthNeighbourhood, leave_out_other_lip};
 use super::lips_parting::{STILL, WITH_JAW, lips_parting};
@@ -39,7 +40,6 @@ use super::mask_holes::{boundary_edges, mouth_rim};
 use super::nonrigid::{Landmark, MIN_NORMAL_DOT, SEARCH_RADIUS, register_nonrigid, vertex_normals};
 use super::part_roles::{MouthPlace, part_roles};
 use super::rigid_icp::icp_with_scale;
-use super::similarity::fit_similarity;
 use crate::arkit::{Blendshape, Blendshapes};
 use crate::avatar::model::Avatar;
 use crate::avatar::target_names::arkit_targets;
@@ -99,10 +99,7 @@ pub const PARTING_REACH_MM: f64 = 8.0;
 /// and teeth.
 pub const VISIBILITY_PIXEL_MM: f64 = 0.5;
 
-/// The largest RMS disagreement of the features after their similarity
-/// fit, as a share of the distance between the eyes, for them to be where
-/// a face has them.
-pub const MAX_FEATURE_MISFIT: f64 = 0.35;
+pub use super::feature_fit::MAX_FEATURE_MISFIT;
 
 /// Why no face was found.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -179,26 +176,23 @@ pub fn find_face(
     if !missing.is_empty() {
         return Err(RegistrationError::MissingFeatureShapes(missing));
     }
-    let matched: Vec<(Blendshape, DVec3, DVec3)> = mask_features
+    let pairs: Vec<FeaturePair> = mask_features
         .iter()
-        .filter_map(|(b, f)| Some((*b, *f, avatar_features.iter().find(|a| a.0 == *b)?.1)))
+        .filter_map(|(b, f)| {
+            Some(FeaturePair {
+                shape: *b,
+                mask: *f,
+                avatar: avatar_features.iter().find(|a| a.0 == *b)?.1,
+            })
+        })
         .collect();
-    let p: Vec<DVec3> = matched.iter().map(|m| m.1).collect();
-    let q: Vec<DVec3> = matched.iter().map(|m| m.2).collect();
-    let initial = fit_similarity(&p, &q, &vec![1.0; p.len()])
-        .ok_or(RegistrationError::FeaturesNotFaceLike(f64::INFINITY))?;
-    let eye_distance = (p[0] - p[1]).length() * initial.scale;
-    let misfit = (p
-        .iter()
-        .zip(&q)
-        .map(|(a, b)| (initial.apply(*a) - *b).length_squared())
-        .sum::<f64>()
-        / p.len() as f64)
-        .sqrt()
-        / eye_distance.max(f64::MIN_POSITIVE);
-    if misfit.is_nan() || misfit > MAX_FEATURE_MISFIT {
-        return Err(RegistrationError::FeaturesNotFaceLike(misfit));
-    }
+    let fitted = fit_features(&pairs).map_err(|e| match e {
+        FeatureFitError::Degenerate => RegistrationError::FeaturesNotFaceLike(f64::INFINITY),
+        FeatureFitError::NotFaceLike(misfit) => RegistrationError::FeaturesNotFaceLike(misfit),
+    })?;
+    let initial = fitted.similarity;
+    let p: Vec<DVec3> = fitted.kept.iter().map(|k| k.mask).collect();
+    let q: Vec<DVec3> = fitted.kept.iter().map(|k| k.avatar).collect();
 
     // The eyeballs, then the skin near the placed mask.
     let looks: Vec<Vec<DVec3>> = [
@@ -269,17 +263,19 @@ pub fn find_face(
         .iter()
         .map(|p| icp.similarity.apply(*p))
         .collect();
-    let mut landmarks: Vec<Landmark> = matched
+    let mut landmarks: Vec<Landmark> = fitted
+        .kept
         .iter()
-        .filter_map(|(b, _, target)| {
+        .map(|k| (k.shape, k.avatar))
+        .filter_map(|(b, target)| {
             Some(Landmark {
-                mask: feature_weights(rig.delta(*b))?,
-                target: *target,
-                slack: match HELD.contains(b) {
+                mask: feature_weights(rig.delta(b))?,
+                target,
+                slack: match HELD.contains(&b) {
                     true => HELD_SLACK_MM * mm,
                     false => LANDMARK_SLACK_MM * mm,
                 },
-                held: HELD.contains(b),
+                held: HELD.contains(&b),
             })
         })
         .collect();
@@ -387,6 +383,7 @@ pub fn find_face(
         residual_mean_mm,
         residual_max_mm,
         icp_iterations: icp.iterations,
+        features_left_out: fitted.left_out,
         roles,
         eyeballs,
         coverage,
@@ -506,7 +503,7 @@ fn uncovered_region(neutral: &[DVec3], kept: &[bool]) -> String {
 
 /// Version of the registration's rules: part of the cache key, so a cached
 /// result from older rules is never taken for a new one.
-pub const REGISTRATION_VERSION: u32 = 9;
+pub const REGISTRATION_VERSION: u32 = 10;
 
 /// The key a registration is cached under: the rules' version, the
 /// avatar's vertex count and a CRC-32 of everything the registration

@@ -6,6 +6,7 @@
 //! |---|---|---|
 //! | §3.3 "ICP with scaling \[52\]" | least-squares similarity of point pairs (Umeyama 1991) | [`similarity`] |
 //! | §3.3, beyond the paper: no hand-placed landmarks | where eyeBlink, jawOpen, … move most on each rig | [`features`] |
+//! | (beyond the paper) an artist's shape placed elsewhere on the face left out of the placement | the features' robust similarity | [`feature_fit`] |
 //! | §3.3 "ICP with scaling \[52\]" (Zinßer et al. 2005) | the mask placed on the avatar by a similarity | [`rigid_icp`] |
 //! | §3.3 "non-rigid registration \[1\]"; optimal-step NICP (Amberg et al. 2007) | the mask laid onto the avatar's skin, features as landmarks | [`nonrigid`] |
 //! | §3.3 "eye balls", on any rig | eyeballs found by their shape, behind the lids | [`eyeballs`] |
@@ -22,6 +23,7 @@ pub mod cache;
 pub mod correspondence;
 pub mod eyeballs;
 pub mod face_registration;
+pub mod feature_fit;
 pub mod features;
 pub mod find_face;
 pub mod jaw_agreement;

@@ -13,7 +13,7 @@ use likeness::avatar::own_shapes::{face_part_triangles, skin_points};
 use likeness::avatar::personal_avatar::PersonalAvatar;
 use likeness::avatar::registration::FaceRegistration;
 use likeness::geometry::closest_point::TriangleTree;
-use likeness::geometry::inside_surface::depth;
+use likeness::geometry::inside_surface::{depth, is_open};
 use likeness::geometry::mesh_boundary::boundary_loops;
 pub use likeness::geometry::self_intersection::intersecting_pairs;
 use likeness::{Blendshape, Blendshapes, Topology};
@@ -95,10 +95,13 @@ pub fn face_checks(
     }
     let bands = seam_statistics(&stock32, &triangles, &face, &change);
 
-    let eyeball_grids: Vec<TriangleTree> = found
+    let eyeball_grids: Vec<(TriangleTree, bool)> = found
         .eyeballs
         .iter()
-        .map(|e| TriangleTree::new(&rest, &avatar.triangles_within(e)))
+        .map(|e| {
+            let triangles = avatar.triangles_within(e);
+            (TriangleTree::new(&rest, &triangles), is_open(&triangles))
+        })
         .collect();
     let in_eyeball: Vec<bool> = {
         let mut f = vec![false; rest.len()];
@@ -115,7 +118,9 @@ pub fn face_checks(
         .filter(|&&v| !in_eyeball[v as usize])
         .flat_map(|&v| {
             let p = rest[v as usize];
-            eyeball_grids.iter().map(move |g| depth(g, p))
+            eyeball_grids
+                .iter()
+                .map(move |(g, open)| depth(g, p, *open))
         })
         .fold(0.0, f64::max)
         * to_mm;

@@ -23,7 +23,7 @@ use super::registration::FaceRegistration;
 use super::registration::find_face::arkit_displacement;
 use crate::arkit::Blendshape;
 use crate::geometry::closest_point::TriangleTree;
-use crate::geometry::inside_surface::inside;
+use crate::geometry::inside_surface::{inside, is_open};
 use crate::personalize::blendshape_fit::in_parallel_map;
 use glam::{DVec3, Vec3};
 use std::fmt;
@@ -370,6 +370,8 @@ pub struct EyeProbe {
     tree: TriangleTree,
     /// Skin vertices near it, in no eyeball.
     near: Vec<usize>,
+    /// Whether its triangles leave a boundary ([`is_open`]).
+    open: bool,
 }
 
 impl EyeProbe {
@@ -393,6 +395,7 @@ impl EyeProbe {
             .collect();
         let at_rest: Vec<DVec3> = eye.iter().map(|&v| rest[v as usize]).collect();
         EyeProbe {
+            open: is_open(&triangles),
             tree: TriangleTree::new(&at_rest, &triangles),
             rest,
             eye: eye.to_vec(),
@@ -418,7 +421,7 @@ impl EyeProbe {
                 if (p - centre).length() > radius {
                     return 0.0;
                 }
-                inside(&grid, p).map_or(0.0, |(c, _)| (c - p).length())
+                inside(&grid, p, self.open).map_or(0.0, |(c, _)| (c - p).length())
             })
             .collect()
     }

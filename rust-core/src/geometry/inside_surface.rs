@@ -2,27 +2,44 @@
 //! and how deep: on the inner side of the closest triangle (its normal
 //! facing outwards), and within the surface by its generalized winding
 //! number ([`super::winding_number`]), which tells a point beside an open
-//! shell's rim from one inside it.
+//! shell's rim from one inside it. The winding number sums over every
+//! triangle, so it is summed only for a surface that has a boundary
+//! ([`is_open`]): on a closed one the closest triangle's side decides
+//! alone, as the two agree there.
 
 use super::closest_point::TriangleTree;
 use super::winding_number::winding_number;
 use glam::DVec3;
+use std::collections::HashMap;
+
+/// Whether `triangles` leave an edge with only one triangle on it.
+pub fn is_open(triangles: &[[u32; 3]]) -> bool {
+    let mut count: HashMap<(u32, u32), u32> = HashMap::with_capacity(3 * triangles.len());
+    for t in triangles {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            *count.entry((a.min(b), a.max(b))).or_default() += 1;
+        }
+    }
+    count.values().any(|&c| c == 1)
+}
 
 /// How far `p` lies inside the surface `tree` (zero outside, [`inside`]):
 /// along the normal of the closest point's triangle.
-pub fn depth(tree: &TriangleTree, p: DVec3) -> f64 {
-    inside(tree, p).map_or(0.0, |(c, normal)| (c - p).dot(normal))
+pub fn depth(tree: &TriangleTree, p: DVec3, open: bool) -> f64 {
+    inside(tree, p, open).map_or(0.0, |(c, normal)| (c - p).dot(normal))
 }
 
 /// The closest point of `tree` to `p` and its triangle's normal, if `p`
-/// is on the inner side of it and the surface winds round it (generalized
+/// is on the inner side of it and, where the surface is `open`
+/// ([`is_open`]), the surface winds round it (generalized
 /// winding number at least ½, [`super::winding_number`]): on a closed
 /// surface the two agree; on a shell open at the back (MakeHuman's
 /// eyeballs) a point beside the opening may lie on the inner side of the
 /// rim's closest triangle without being in the shell at all.
-pub fn inside(tree: &TriangleTree, p: DVec3) -> Option<(DVec3, DVec3)> {
+pub fn inside(tree: &TriangleTree, p: DVec3, open: bool) -> Option<(DVec3, DVec3)> {
     let c = tree.closest(p)?;
     let normal = tree.triangle_normal(c.triangle);
-    ((p - c.point).dot(normal) < 0.0 && winding_number(tree.corners(), p) >= 0.5)
+    ((p - c.point).dot(normal) < 0.0 && (!open || winding_number(tree.corners(), p) >= 0.5))
         .then_some((c.point, normal))
 }

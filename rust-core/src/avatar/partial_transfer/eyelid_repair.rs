@@ -23,7 +23,7 @@
 //! however it rests.
 
 use crate::geometry::closest_point::TriangleTree;
-use crate::geometry::inside_surface::{depth, inside};
+use crate::geometry::inside_surface::{depth, inside, is_open};
 use glam::DVec3;
 
 /// How far outside the eyeball a repaired lid vertex is put (mm at the
@@ -52,6 +52,9 @@ pub struct Eyeball {
     /// shape's ([`TriangleTree::moved_to`]), it finds the eyeball's
     /// closest points in that shape.
     pub tree: TriangleTree,
+    /// Whether its triangles leave a boundary (a shell open at the back;
+    /// [`crate::geometry::inside_surface::is_open`]).
+    pub open: bool,
 }
 
 impl Eyeball {
@@ -86,6 +89,7 @@ impl Eyeball {
         let at_rest: Vec<DVec3> = vertices.iter().map(|&v| rest[v as usize]).collect();
         let tree = TriangleTree::new(&at_rest, &local);
         Eyeball {
+            open: is_open(&local),
             triangles,
             centre,
             radius,
@@ -160,10 +164,10 @@ pub fn repair_eyelids(
             // a rig's cornea shell, or left behind a turned eyeball, is the
             // rig's choice, not a lid passing through.
             let allowed = match own.is_empty() {
-                true => depth(allowed_by, p0),
-                false => depth(allowed_by, own_posed(v)),
+                true => depth(allowed_by, p0, eyeball.open),
+                false => depth(allowed_by, own_posed(v), eyeball.open),
             };
-            if let Some((point, normal)) = inside(&grid, p) {
+            if let Some((point, normal)) = inside(&grid, p, eyeball.open) {
                 let deeper = (point - p).dot(normal);
                 if allowed == 0.0 {
                     changes.push((v, point + normal * offset - p0));
@@ -291,13 +295,17 @@ mod tests {
         let behind = DVec3::new(0.45, 0.0, -0.6);
         let c = tree.closest(behind).expect("a mesh");
         assert!((behind - c.point).dot(tree.triangle_normal(c.triangle)) < 0.0);
-        assert_eq!(inside(&tree, behind), None);
-        assert_eq!(depth(&tree, behind), 0.0);
+        assert!(is_open(&open));
+        assert_eq!(inside(&tree, behind, true), None);
+        assert_eq!(depth(&tree, behind, true), 0.0);
         let under_front = DVec3::new(0.1, 0.1, 0.4);
-        assert!((depth(&tree, under_front) - 0.1).abs() < 1e-12);
+        assert!((depth(&tree, under_front, true) - 0.1).abs() < 1e-12);
         // Closed, the same points as before.
         let closed = TriangleTree::new(&rest, &triangles);
-        assert_eq!(depth(&closed, behind), 0.0);
-        assert!((depth(&closed, under_front) - 0.1).abs() < 1e-12);
+        assert!(!is_open(&triangles));
+        assert_eq!(depth(&closed, behind, false), 0.0);
+        assert!((depth(&closed, under_front, false) - 0.1).abs() < 1e-12);
+        // Without the winding number, the open shell's rim takes the point.
+        assert!(inside(&tree, behind, false).is_some());
     }
 }

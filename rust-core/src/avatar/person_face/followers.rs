@@ -312,7 +312,7 @@ fn push_back(
     // The eyeball was made over `positions`: its tree is the stock one.
     let allowed: Vec<f64> = lids
         .iter()
-        .map(|&v| depth(&eyeball.tree, positions[v as usize]))
+        .map(|&v| depth(&eyeball.tree, positions[v as usize], eyeball.open))
         .collect();
     let mut total = 0.0;
     for _ in 0..PUSH_ROUNDS {
@@ -326,7 +326,11 @@ fn push_back(
             .iter()
             .zip(&allowed)
             .map(|(&v, a)| {
-                let d = depth(&grid, positions[v as usize] + field[v as usize]);
+                let d = depth(
+                    &grid,
+                    positions[v as usize] + field[v as usize],
+                    eyeball.open,
+                );
                 if d > 0.0 { d - a + clear } else { 0.0 }
             })
             .fold(0.0, f64::max);

@@ -8,20 +8,13 @@
 //! alone, as the two agree there.
 
 use super::closest_point::TriangleTree;
+use super::mesh_boundary::boundary_edges;
 use super::winding_number::winding_number;
 use glam::DVec3;
-use std::collections::HashMap;
 
 /// Whether `triangles` leave an edge with only one triangle on it.
 pub fn is_open(triangles: &[[u32; 3]]) -> bool {
-    let mut count: HashMap<(u32, u32), u32> = HashMap::with_capacity(3 * triangles.len());
-    for t in triangles {
-        for k in 0..3 {
-            let (a, b) = (t[k], t[(k + 1) % 3]);
-            *count.entry((a.min(b), a.max(b))).or_default() += 1;
-        }
-    }
-    count.values().any(|&c| c == 1)
+    !boundary_edges(triangles).is_empty()
 }
 
 /// How far `p` lies inside the surface `tree` (zero outside, [`inside`]):

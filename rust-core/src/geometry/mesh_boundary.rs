@@ -1,5 +1,5 @@
-//! Boundary loops of a triangle mesh, and the virtual triangles that close
-//! the eye holes of an ARKit-like face mask.
+//! Boundary edges and loops of a triangle mesh, and the virtual triangles
+//! that close the eye holes of an ARKit-like face mask.
 //!
 //! ARKit's face mask is a disc with three holes: the outline, two eyes and
 //! the mouth. Deformation transfer only sees triangles, so a blink transferred
@@ -14,7 +14,7 @@
 
 use crate::geometry::topology::{GeometryError, Topology};
 use glam::{DVec3, Vec3};
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 /// What makes a mesh's boundary unusable.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
@@ -45,6 +45,22 @@ pub enum BoundaryError {
         /// The vertex.
         vertex: u32,
     },
+}
+
+/// The edges used by exactly one triangle, `(min, max)`.
+pub fn boundary_edges(triangles: &[[u32; 3]]) -> HashSet<(u32, u32)> {
+    let mut count: HashMap<(u32, u32), usize> = HashMap::new();
+    for t in triangles {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            *count.entry((a.min(b), a.max(b))).or_default() += 1;
+        }
+    }
+    count
+        .into_iter()
+        .filter(|(_, c)| *c == 1)
+        .map(|(e, _)| e)
+        .collect()
 }
 
 /// The boundary loops of `topology`.

@@ -6,7 +6,7 @@
 //! | paper | what | file |
 //! |---|---|---|
 //! | §3.1, `n = 1220`, 2304 triangles | triangle lists checked against vertex counts | [`topology`] |
-//! | §3.2, virtual eye triangles (Saito 2013) | boundary loops, eye holes spanned lid to lid | [`mesh_boundary`] |
+//! | §3.2, virtual eye triangles (Saito 2013) | boundary edges and loops, eye holes spanned lid to lid | [`mesh_boundary`] |
 //! | §3.2 (ref. 47) | per-triangle deformation gradients (Sumner & Popović 2004) | [`deformation_gradient`] |
 //! | §3.2 (ref. 47), §3.3 | gradient-domain deformation transfer (Botsch et al. 2006), lid contacts, translation | [`deformation_transfer`] |
 //! | §3.3, ICP and the map `M` | exact closest points on a triangle mesh in a bounding-volume hierarchy (Ericson 2005; Wald et al. 2007) | [`closest_point`] |

@@ -9,9 +9,8 @@
 //! eyeball point to skin vertex `p` and `n` the outward normal of the
 //! triangle it lies on, `p` is inside when `(p − c) · n < 0` and the
 //! eyeball winds round `p` ([`crate::geometry::inside_surface`]). Eyeball
-//! parts face outwards (the
-//! default avatar's are tested so; MakeHuman's shells are open at the
-//! back, which the winding number tells); only
+//! parts face outwards (the default avatar's are tested so; MakeHuman's
+//! shells are open at the back, which the winding number tells); only
 //! skin vertices within the eyeball's radius plus [`NEAR_MM`] of its centre
 //! at rest, and within its bounding sphere in the shape, are looked at (an
 //! eyeball turns about its centre, so the sphere holds it in every shape),

@@ -11,8 +11,8 @@
 //! a sum of rotations is not a rotation: a rigid part's displacement in a
 //! shape is replaced by the rigid motion closest to it (least squares,
 //! [`fit_rigid`]), unless it is already as near a rigid motion as the
-//! rig's own targets keep the piece ([`hold_rigid`]). The largest deviation from a rigid motion, before and
-//! after, is reported per shape.
+//! rig's own targets keep the piece ([`hold_rigid`]). The largest
+//! deviation from a rigid motion, before and after, is reported per shape.
 
 use crate::avatar::model::Avatar;
 use crate::avatar::registration::similarity::fit_rigid;

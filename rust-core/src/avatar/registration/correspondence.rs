@@ -33,9 +33,10 @@
 //! lip's motion, which lies as near at the mouth's slit.
 
 use super::lip_sides::LipSides;
-use super::mask_holes::{boundary_edges, hole_rims, mouth_rim};
+use super::mask_holes::{hole_rims, mouth_rim};
 use super::nonrigid::MIN_NORMAL_DOT;
 use crate::geometry::closest_point::TriangleTree;
+use crate::geometry::mesh_boundary::boundary_edges;
 use crate::geometry::one_ring::one_rings;
 use glam::DVec3;
 use serde::{Deserialize, Serialize};

@@ -11,10 +11,9 @@
 //! away, and the fit is made again; but never more of them than are kept,
 //! so that the fit stays decided by features that agree (three points
 //! alone fit almost any triangle, a face upside down among them). The
-//! [`super::features::REQUIRED`]
-//! features are never left out: a rig whose blinks and jaw disagree with a
-//! face is not a face, and [`MAX_FEATURE_MISFIT`] decides that over what
-//! remains.
+//! [`super::features::REQUIRED`] features are never left out: a rig whose
+//! blinks and jaw disagree with a face is not a face, and
+//! [`MAX_FEATURE_MISFIT`] decides that over what remains.
 
 use super::features::REQUIRED;
 use super::similarity::{Similarity, fit_similarity};

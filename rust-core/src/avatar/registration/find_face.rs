@@ -36,7 +36,7 @@ use super::feature_fit::{FeatureFitError, FeaturePair, fit_features};
 use super::features::{HELD, REQUIRED, feature_weights, rig_features};
 use super::jaw_agreement::{MouthNeighbourhood, leave_out_other_lip};
 use super::lips_parting::{STILL, WITH_JAW, lips_parting};
-use super::mask_holes::{boundary_edges, mouth_rim};
+use super::mask_holes::mouth_rim;
 use super::nonrigid::{Landmark, MIN_NORMAL_DOT, SEARCH_RADIUS, register_nonrigid, vertex_normals};
 use super::part_roles::{MouthPlace, part_roles};
 use super::rigid_icp::icp_with_scale;
@@ -46,6 +46,7 @@ use crate::avatar::target_names::arkit_targets;
 use crate::geometry::Topology;
 use crate::geometry::closest_point::TriangleTree;
 use crate::geometry::front_visibility::visible_from;
+use crate::geometry::mesh_boundary::boundary_edges;
 use glam::DVec3;
 use std::time::Instant;
 

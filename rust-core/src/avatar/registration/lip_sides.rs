@@ -15,7 +15,8 @@
 //! plain closest point can be the other lip's, while the avatar's surface
 //! says which lip a vertex belongs to.
 
-use super::mask_holes::{boundary_edges, mouth_rim};
+use super::mask_holes::mouth_rim;
+use crate::geometry::mesh_boundary::boundary_edges;
 use glam::DVec3;
 use std::collections::{BTreeSet, HashMap, HashSet};
 

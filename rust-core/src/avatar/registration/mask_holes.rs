@@ -69,22 +69,6 @@ pub fn mouth_rim(mask: &[DVec3], boundary: &HashSet<(u32, u32)>) -> BTreeSet<u32
     pieces.pop().unwrap_or_default().into_iter().collect()
 }
 
-/// The edges used by exactly one triangle, `(min, max)`.
-pub fn boundary_edges(triangles: &[[u32; 3]]) -> HashSet<(u32, u32)> {
-    let mut count: HashMap<(u32, u32), usize> = HashMap::new();
-    for t in triangles {
-        for k in 0..3 {
-            let (a, b) = (t[k], t[(k + 1) % 3]);
-            *count.entry((a.min(b), a.max(b))).or_default() += 1;
-        }
-    }
-    count
-        .into_iter()
-        .filter(|(_, c)| *c == 1)
-        .map(|(e, _)| e)
-        .collect()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

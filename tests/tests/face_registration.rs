@@ -90,7 +90,8 @@ fn farthest_left_out_mm(
     found: &FaceRegistration,
     vertices: impl Iterator<Item = (u32, DVec3)>,
 ) -> f64 {
-    use likeness::avatar::registration::mask_holes::{boundary_edges, hole_rims};
+    use likeness::avatar::registration::mask_holes::hole_rims;
+    use likeness::geometry::mesh_boundary::boundary_edges;
     let (rig, mask) = (rig(), face_mask());
     let edges = boundary_edges(mask.topology.triangles());
     let outline: Vec<(DVec3, DVec3)> = edges

@@ -7,9 +7,7 @@
 use likeness::Blendshape;
 use likeness::avatar::glb::read::{GlbAvatar, read_avatar_bytes};
 use likeness::avatar::implant_check::Fault;
-use likeness::avatar::personal_avatar::{
-    AvatarShapes, AvatarWarning, PersonInput, RestFace, personal_avatar,
-};
+use likeness::avatar::personal_avatar::{AvatarShapes, PersonInput, RestFace, personal_avatar};
 use likeness::personalize::{Method, personalize};
 use likeness_sim::{SAMPLE_GEOMETRY_WINDOW, SimulationOptions, simulate_session_with};
 

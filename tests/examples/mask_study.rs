@@ -16,10 +16,9 @@
 use likeness::avatar::glb::{GlbAvatar, read_avatar, read_avatar_bytes};
 use likeness::avatar::personal_avatar::{AvatarShapes, PersonInput, RestFace, personal_avatar};
 use likeness::avatar::registration::find_face;
-use likeness::personalize::{Method, personalize};
-use likeness_sim::SimulationOptions;
 use likeness_sim::arkit_face::shared_arkit_face;
 use likeness_sim::face_basis::FaceBasis;
+use likeness_tests::arkit_people::{ArkitPerson, study_seeds};
 use std::path::Path;
 
 fn avatars() -> Result<Vec<(String, GlbAvatar)>, Box<dyn std::error::Error>> {
@@ -75,15 +74,7 @@ fn most_folded(
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let seeds: Vec<u64> = std::env::args()
-        .skip(1)
-        .map(|a| a.parse())
-        .collect::<Result<_, _>>()?;
-    let seeds = if seeds.is_empty() {
-        vec![1, 2, 3, 4, 5]
-    } else {
-        seeds
-    };
+    let seeds = study_seeds()?;
     let mut bases = vec![FaceBasis::Simulator];
     if let Some(face) = shared_arkit_face() {
         bases.push(FaceBasis::Arkit(face));
@@ -91,18 +82,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut people = Vec::new();
     for basis in &bases {
         for &seed in &seeds {
-            let session = likeness_sim::simulate_session_with(
-                seed,
-                SimulationOptions {
-                    face: *basis,
-                    geometry_window: Some(0.4),
-                    ..SimulationOptions::default()
-                },
-                &mut |_, _| {},
-            );
-            let rig = session.template.blendshapes()?;
-            let person = personalize(&session, Method::DEFAULT)?.shapes;
-            people.push((*basis, seed, session, rig, person));
+            let p = ArkitPerson::simulate(*basis, seed);
+            people.push((*basis, seed, p.session, p.rig, p.personalized));
         }
     }
     for (name, glb) in avatars()? {

@@ -16,6 +16,20 @@ use std::sync::OnceLock;
 /// Seeds of the people simulated on ARKit's mesh: the five.
 pub const ARKIT_SEEDS: [u64; 5] = [1, 2, 3, 4, 5];
 
+/// The seeds a study was given on its command line, or the five
+/// ([`ARKIT_SEEDS`]) if none.
+pub fn study_seeds() -> Result<Vec<u64>, std::num::ParseIntError> {
+    let seeds: Vec<u64> = std::env::args()
+        .skip(1)
+        .map(|a| a.parse())
+        .collect::<Result<_, _>>()?;
+    Ok(if seeds.is_empty() {
+        ARKIT_SEEDS.to_vec()
+    } else {
+        seeds
+    })
+}
+
 /// One person on ARKit's mesh: the session, its template's shapes and the
 /// person's personalized shapes.
 pub struct ArkitPerson {
@@ -30,6 +44,31 @@ pub struct ArkitPerson {
 }
 
 impl ArkitPerson {
+    /// Person `seed` simulated on the mask `face` (either the simulator's
+    /// or ARKit's), its meshes kept near captures as the samples, and
+    /// personalized by the product's method.
+    pub fn simulate(face: FaceBasis, seed: u64) -> ArkitPerson {
+        let options = SimulationOptions {
+            face,
+            geometry_window: Some(SAMPLE_GEOMETRY_WINDOW),
+            ..SimulationOptions::default()
+        };
+        let session = simulate_session_with(seed, options, &mut |_, _| {});
+        let rig = session
+            .template
+            .blendshapes()
+            .expect("the template's shapes");
+        let personalized = personalize(&session, Method::DEFAULT)
+            .expect("a simulated session personalizes")
+            .shapes;
+        ArkitPerson {
+            seed,
+            session,
+            rig,
+            personalized,
+        }
+    }
+
     /// What the avatar stage takes.
     pub fn input(&self) -> PersonInput<'_> {
         PersonInput {
@@ -53,27 +92,10 @@ pub fn arkit_people() -> Option<&'static [ArkitPerson]> {
                 );
                 return None;
             };
-            let options = SimulationOptions {
-                face: FaceBasis::Arkit(face),
-                geometry_window: Some(SAMPLE_GEOMETRY_WINDOW),
-                ..SimulationOptions::default()
-            };
             Some(
                 ARKIT_SEEDS
                     .iter()
-                    .map(|&seed| {
-                        let session = simulate_session_with(seed, options, &mut |_, _| {});
-                        let rig = session.template.blendshapes().expect("ARKit's template");
-                        let personalized = personalize(&session, Method::DEFAULT)
-                            .expect("a simulated session personalizes")
-                            .shapes;
-                        ArkitPerson {
-                            seed,
-                            session,
-                            rig,
-                            personalized,
-                        }
-                    })
+                    .map(|&seed| ArkitPerson::simulate(FaceBasis::Arkit(face), seed))
                     .collect(),
             )
         })

@@ -24,8 +24,9 @@ use likeness::avatar::registration::find_face::arkit_displacement;
 
 pub use likeness::avatar::implant_check::{
     OWN_STRETCH, TORN_STRETCH, deepest_lid, eyeball_flags, eyeball_seen_share, head_edges, on_left,
-    own_shape, ray_hits, torn_edges,
+    own_shape, torn_edges,
 };
+pub use likeness::geometry::ray_cover::ray_hits;
 
 /// Issue 21's figures for one implanted avatar.
 #[derive(Clone, Debug)]

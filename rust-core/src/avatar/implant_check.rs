@@ -24,6 +24,7 @@ use super::registration::find_face::arkit_displacement;
 use crate::arkit::Blendshape;
 use crate::geometry::closest_point::TriangleTree;
 use crate::geometry::inside_surface::{inside, is_open};
+use crate::geometry::ray_cover::RayCover;
 use crate::personalize::blendshape_fit::in_parallel_map;
 use glam::{DVec3, Vec3};
 use std::fmt;
@@ -286,28 +287,6 @@ pub fn folded_triangles(
     folded.into_iter().map(|(_, t)| t).collect()
 }
 
-/// Möller–Trumbore: whether the ray `o + s d`, `s > 0`, crosses triangle
-/// `abc`.
-pub fn ray_hits(o: DVec3, d: DVec3, [a, b, c]: [DVec3; 3]) -> bool {
-    let (e1, e2) = (b - a, c - a);
-    let p = d.cross(e2);
-    let det = e1.dot(p);
-    if det.abs() < 1e-18 {
-        return false;
-    }
-    let t = o - a;
-    let u = t.dot(p) / det;
-    if !(0.0..=1.0).contains(&u) {
-        return false;
-    }
-    let q = t.cross(e1);
-    let v = d.dot(q) / det;
-    if v < 0.0 || u + v > 1.0 {
-        return false;
-    }
-    e2.dot(q) / det > 0.0
-}
-
 /// The centroid of `vertices` at `rest` and their largest distance from
 /// it.
 pub fn bounding_sphere(rest: &[DVec3], vertices: &[u32]) -> (DVec3, f64) {
@@ -336,13 +315,16 @@ pub fn eyeball_seen_share(
     let posed = |v: usize| rest[v] + d[v].as_dvec3();
     let (centre, radius) = bounding_sphere(&rest, eye);
     let in_eyeball = eyeball_flags(avatar, found);
-    let cover: Vec<[DVec3; 3]> = avatar
-        .triangles()
-        .iter()
-        .filter(|t| t.iter().all(|&v| !in_eyeball[v as usize]))
-        .map(|t| t.map(|v| posed(v as usize)))
-        .filter(|t| t.iter().any(|p| (*p - centre).length() < 3.0 * radius))
-        .collect();
+    let cover = RayCover::new(
+        avatar
+            .triangles()
+            .iter()
+            .filter(|t| t.iter().all(|&v| !in_eyeball[v as usize]))
+            .map(|t| t.map(|v| posed(v as usize)))
+            .filter(|t| t.iter().any(|p| (*p - centre).length() < 3.0 * radius))
+            .collect(),
+        forward,
+    );
     let front: Vec<usize> = eye
         .iter()
         .map(|&v| v as usize)
@@ -352,7 +334,7 @@ pub fn eyeball_seen_share(
         .iter()
         .filter(|&&v| {
             let o = posed(v) + forward * 1e-6 * radius;
-            !cover.iter().any(|t| ray_hits(o, forward, *t))
+            !cover.covers(o)
         })
         .count();
     seen as f64 / front.len().max(1) as f64

@@ -8,8 +8,8 @@ use crate::avatar_preview::PreviewInput;
 use crate::info::read_session_template_first;
 use likeness::avatar::glb::{GlbAvatar, new_avatar_glb, read_avatar, read_avatar_bytes};
 use likeness::avatar::personal_avatar::{
-    AvatarShapes, AvatarStep, AvatarWarning, PersonInput, PersonalAvatar, RestFace, mask_glb,
-    personal_avatar, retarget_map_json,
+    AvatarShapes, AvatarStep, PersonInput, PersonalAvatar, RestFace, mask_glb, personal_avatar,
+    retarget_map_json,
 };
 use likeness::avatar::registration::FaceRegistration;
 use likeness::avatar::registration::cache;
@@ -496,11 +496,7 @@ pub fn avatar_command(args: &AvatarArgs) -> CliResult {
             .copied()
             .fold(0.0, f64::max),
         retarget_worst_shape: worst_shape(&retargeting.floored_residual),
-        checked_faults: made
-            .warnings
-            .iter()
-            .filter(|w| matches!(w, AvatarWarning::Fault(_) | AvatarWarning::RestCreased(_)))
-            .count(),
+        checked_faults: made.faults().count(),
         implant_face_vertices: implanted.as_ref().map_or(0, |i| i.face_vertices),
         implant_adjacent_vertices: implanted.as_ref().map_or(0, |i| i.adjacent_vertices),
         lids_repaired: implanted.as_ref().map_or(0, |i| i.lids_repaired),

@@ -197,6 +197,65 @@ fn the_default_avatar_takes_the_persons_face_unless_told_to_keep_its_own() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A person on ARKit's own mesh (`../shared/arkit-face/`; skipped where it
+/// is absent, but not under CI): the default avatar keeps its own face,
+/// since the person's would crease its skin, and says so; the shapes'
+/// check counts shapes past a limit, not the face kept.
+#[test]
+fn a_person_on_arkits_mesh_keeps_the_default_avatars_face_with_a_warning() {
+    let Some(_) = likeness_sim::arkit_face::shared_arkit_face() else {
+        eprintln!(
+            "skipped: {} is absent (it is never committed)",
+            likeness_sim::arkit_face::shared_arkit_face_dir().display()
+        );
+        return;
+    };
+    let dir = scratch("arkit-face");
+    let session = dir.join("person.lks");
+    let face_dir = likeness_sim::arkit_face::shared_arkit_face_dir();
+    let made = likeness(&[
+        "simulate",
+        "--seed",
+        "1",
+        "--topology",
+        "arkit",
+        "--arkit-face",
+        &s(&face_dir),
+        "--geometry-window",
+        "0.4",
+        "--out",
+        &s(&session),
+    ]);
+    assert!(made.status.success(), "{}", text(&made.stderr));
+    let out = likeness(&[
+        "avatar",
+        &s(&session),
+        "--out",
+        &s(&dir.join("me.glb")),
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    assert_eq!(v["rest_face"], "stock", "{v}");
+    let warnings: Vec<&str> = v["warnings"]
+        .as_array()
+        .expect("warnings")
+        .iter()
+        .filter_map(|w| w.as_str())
+        .collect();
+    let kept = warnings
+        .iter()
+        .filter(|w| w.contains("keeps its own face"))
+        .count();
+    assert_eq!(kept, 1, "{warnings:?}");
+    assert_eq!(
+        v["checked_faults"].as_u64(),
+        Some((warnings.len() - kept) as u64),
+        "{v}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn a_file_that_is_not_an_avatar_is_a_clear_error() {
     let dir = scratch("bad");

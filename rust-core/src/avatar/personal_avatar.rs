@@ -5,7 +5,8 @@
 //!
 //! The steps, each in its own module: the face found ([`find_face()`], or a
 //! registration cached from an earlier run), the person's own face taken
-//! onto the avatar's rest if asked ([`take_face`]), Eq. (4) ([`retarget`]), the
+//! onto the avatar's rest if asked and the skin takes it without creasing
+//! ([`skin_change`], [`super::rest_check`]), Eq. (4) ([`retarget`]), the
 //! seamless partial deformation transfer ([`implant`]), and the GLB
 //! written back ([`written_back_glb`]). Between steps the caller's
 //! [`Progress`] hears how far the work has got and may cancel it.
@@ -17,7 +18,7 @@ use super::glb::{
 use super::implant_check::{Fault, check_shapes};
 use super::model::{Avatar, AvatarMesh, AvatarPart};
 use super::partial_transfer::{ImplantError, Implanted, implant};
-use super::person_face::{TakeFaceError, TakenFace, take_face};
+use super::person_face::{TakeFaceError, TakenFace, skin_change};
 use super::registration::{FaceRegistration, RegistrationError, find_face};
 use super::rest_check::{RestCreases, RestSpike, rest_creases, rest_spike};
 use super::retargeting::{NEGLIGIBLE, RetargetError, Retargeting, retarget};
@@ -342,28 +343,32 @@ pub fn personal_avatar(
         RestFace::Stock => None,
         RestFace::Person => {
             go(AvatarStep::TakingFace)?;
-            let taken = take_face(avatar, &registration, person.personalized.neutral()).map_err(
-                |source| AvatarError::TakeFace {
-                    file: file.clone(),
-                    source,
-                },
-            )?;
-            if let Some(spike) =
-                rest_spike(avatar, &registration, &taken.moved, taken.asked_largest_mm)
-            {
-                return Err(AvatarError::RestSpike {
-                    file: file.clone(),
-                    spike,
-                });
-            }
+            let taking = |source| AvatarError::TakeFace {
+                file: file.clone(),
+                source,
+            };
+            let skin = skin_change(avatar, &registration, person.personalized.neutral())
+                .map_err(taking)?;
             // A face the skin cannot take without creasing is not taken:
-            // the avatar keeps its own, and the person's motion.
-            match rest_creases(avatar, &registration, &taken.moved) {
+            // the avatar keeps its own, and the person's motion. The skin
+            // alone says (what it holds follows it after).
+            match rest_creases(avatar, &registration, &skin.moved) {
                 Some(creases) => {
                     warnings.push(AvatarWarning::RestCreased(creases));
                     None
                 }
-                None => Some(taken),
+                None => {
+                    let taken = skin.followed(avatar, &registration).map_err(taking)?;
+                    if let Some(spike) =
+                        rest_spike(avatar, &registration, &taken.moved, taken.asked_largest_mm)
+                    {
+                        return Err(AvatarError::RestSpike {
+                            file: file.clone(),
+                            spike,
+                        });
+                    }
+                    Some(taken)
+                }
             }
         }
     };

@@ -6,10 +6,12 @@
 //! | the change at rest ([`rest_spike`]) | a vertex moving much further than the scan asks of the face at any point | [`REST_OVERSHOOT`] × the largest change asked |
 //! | creases at rest ([`rest_creases`]) | a head edge whose dihedral angle taking the face changes by more than [`REST_CREASE_ANGLE`] | [`REST_CREASE_SHARE`] of the head's edges |
 //!
-//! A spike makes the avatar unusable and is refused
-//! (`AvatarError::RestSpike` of [`super::personal_avatar`]); past the
-//! creases' limit the face is not taken: the avatar keeps its own, with a
-//! warning.
+//! Past the creases' limit the face is not taken: the avatar keeps its
+//! own, with a warning. The creases are the skin's alone, so they are
+//! checked first, before what the skin holds follows it
+//! ([`super::person_face::SkinChange`]); a face taken is then checked for
+//! spikes, which make the avatar unusable and are refused
+//! (`AvatarError::RestSpike` of [`super::personal_avatar`]).
 
 use super::implant_check::{head_edges, head_triangles};
 use super::model::Avatar;

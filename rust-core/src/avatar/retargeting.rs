@@ -88,6 +88,7 @@ use super::registration::FaceRegistration;
 use super::target_names::{TargetName, parse_target_name};
 use crate::arkit::{BLENDSHAPE_COUNT, Blendshape, Blendshapes};
 use crate::geometry::box_quadratic::{Bounds, minimize};
+use crate::personalize::blendshape_fit::in_parallel_map;
 use faer::Mat;
 use glam::{DVec3, Vec3};
 use serde::{Deserialize, Serialize};
@@ -232,26 +233,22 @@ impl Retargeting {
         let own = self.blendshape_displacements(avatar);
         let positions = avatar.positions();
         let cut = NegligibleLength::of(positions.iter().map(|p| p.as_dvec3()));
-        Blendshape::ALL
-            .iter()
-            .map(|b| self.combine(positions.len(), &own, *b, cut))
-            .collect()
+        in_parallel_map(Blendshape::ALL.len(), |j| {
+            self.combine(positions.len(), &own, Blendshape::ALL[j], cut)
+        })
     }
 
     /// Each avatar blendshape's displacement, as the vertices it moves
     /// (index and displacement): targets move a small part of the head, so
     /// combining 52 of them touches only those.
     fn blendshape_displacements(&self, avatar: &Avatar) -> Vec<Vec<(usize, Vec3)>> {
-        self.targets
-            .iter()
-            .map(|b| {
-                let d = avatar.summed_displacement(&b.targets);
-                d.into_iter()
-                    .enumerate()
-                    .filter(|(_, x)| *x != Vec3::ZERO)
-                    .collect()
-            })
-            .collect()
+        in_parallel_map(self.targets.len(), |i| {
+            let d = avatar.summed_displacement(&self.targets[i].targets);
+            d.into_iter()
+                .enumerate()
+                .filter(|(_, x)| *x != Vec3::ZERO)
+                .collect()
+        })
     }
 
     /// `Σ_i w̃_ji B̃_i` over `n` vertices from the blendshapes' moved

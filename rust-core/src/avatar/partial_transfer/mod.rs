@@ -57,7 +57,7 @@ use crate::arkit::{Blendshape, Blendshapes};
 use crate::geometry::dihedral_angle::Hinges;
 use crate::geometry::mesh_boundary::{EyeHole, boundary_edges};
 use crate::geometry::sparse_cholesky::FactorError;
-use crate::personalize::blendshape_fit::{in_parallel_chunks, in_parallel_ranges};
+use crate::personalize::blendshape_fit::{in_parallel_chunks, in_parallel_map, in_parallel_ranges};
 use adjacent_step::AdjacentStep;
 use closed_lids::ClosedLids;
 use crease_smoothing::{CreaseSmoothing, ShapeToSmooth};
@@ -303,10 +303,9 @@ impl<'a> Scene<'a> {
                 .into_iter()
                 .map(|d| d.into_iter().map(|x| x.as_dvec3()).collect())
                 .collect(),
-            own_shapes: Blendshape::ALL
-                .iter()
-                .map(|b| arkit_displacement(avatar, *b))
-                .collect(),
+            own_shapes: in_parallel_map(Blendshape::ALL.len(), |j| {
+                arkit_displacement(avatar, Blendshape::ALL[j])
+            }),
             to_avatar: registration.similarity.scale / 1000.0,
             positions,
         }

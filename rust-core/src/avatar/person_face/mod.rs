@@ -119,12 +119,53 @@ pub struct TakenFace {
 
 /// Gives `avatar` (found by `registration`) the rest face `neutral`: the
 /// person's scanned neutral on the mask, ARKit's face coordinates, metres
-/// (module docs).
+/// (module docs). The skin's change first ([`skin_change`]), then what the
+/// skin holds ([`SkinChange::followed`]).
 pub fn take_face(
     avatar: &Avatar,
     registration: &FaceRegistration,
     neutral: &[DVec3],
 ) -> Result<TakenFace, TakeFaceError> {
+    skin_change(avatar, registration, neutral)?.followed(avatar, registration)
+}
+
+/// The change of the skin (the face parts) that takes the person's face,
+/// before what the skin holds follows it: all a check of the skin's
+/// creases needs (`crate::avatar::rest_check::rest_creases`), so a face
+/// the skin cannot take costs no more.
+#[derive(Clone, Debug)]
+pub struct SkinChange {
+    /// The change of every vertex's rest (avatar units): set on the face
+    /// parts, zero elsewhere until [`SkinChange::followed`].
+    pub moved: Vec<DVec3>,
+    /// The largest change the scan asks of the skin at a point it holds
+    /// (mm, mask scale).
+    pub asked_largest_mm: f64,
+    /// The avatar's stock rest.
+    positions: Vec<DVec3>,
+    /// The face parts' triangles.
+    triangles: Vec<[u32; 3]>,
+    /// Each mask vertex's point on the skin, if within the tolerance.
+    points: Vec<Option<([u32; 3], [f64; 3])>>,
+    /// Each mask vertex's scanned place (avatar frame).
+    wanted: Vec<DVec3>,
+    /// Each mask vertex's wanted change.
+    change_at_mask: Vec<DVec3>,
+    /// Whether each mask vertex asked its change of the skin.
+    kept: Vec<bool>,
+    /// Avatar units per mm at the mask's scale.
+    to_avatar: f64,
+    /// When the taking began.
+    started: Instant,
+}
+
+/// The skin's change that takes the rest face `neutral` onto `avatar`
+/// (found by `registration`; module docs), the skin alone.
+pub fn skin_change(
+    avatar: &Avatar,
+    registration: &FaceRegistration,
+    neutral: &[DVec3],
+) -> Result<SkinChange, TakeFaceError> {
     let started = Instant::now();
     let expected = registration.mask_on_avatar.len();
     if neutral.len() != expected {
@@ -149,9 +190,6 @@ pub fn take_face(
         &triangles,
         FACE_TOLERANCE_MM * to_avatar,
     );
-    let at = |point: &Option<([u32; 3], [f64; 3])>, field: &[DVec3]| {
-        point.map(|(t, b)| (0..3).map(|k| field[t[k] as usize] * b[k]).sum::<DVec3>())
-    };
     let wanted: Vec<DVec3> = neutral.iter().map(|p| s.apply(*p)).collect();
     let change_at_mask: Vec<DVec3> = points
         .iter()
@@ -240,54 +278,95 @@ pub fn take_face(
         &ties,
         STILL_MM * to_avatar,
     );
-    // What the skin holds.
-    let eyeballs = follow_skin(avatar, &positions, registration, &mut field, to_avatar);
-
-    let taken = avatar
-        .with_rest_moved(&field)
-        .map_err(|_| TakeFaceError::Unsolved)?;
-    let new_positions: Vec<DVec3> = positions.iter().zip(&field).map(|(p, u)| *p + *u).collect();
-    let moved_registration = registration
-        .with_mask_moved(&taken, |i| {
-            at(&points[i], &field).unwrap_or(change_at_mask[i])
-        })
-        .map_err(|_| TakeFaceError::Unsolved)?;
-    let fits: Vec<f64> = points
-        .iter()
-        .enumerate()
-        .filter(|(i, _)| kept[*i])
-        .filter_map(|(i, point)| {
-            Some((at(point, &new_positions)? - wanted[i]).length() / to_avatar)
-        })
-        .collect();
-    // How far the scanned face is from the new skin, wherever the mask
-    // lies on the skin (left out or not): the face a user compares.
-    let new_skin = TriangleTree::new(&new_positions, &triangles);
-    let mut surface: Vec<f64> = (0..points.len())
-        .filter(|i| points[*i].is_some())
-        .filter_map(|i| Some(new_skin.closest(wanted[i])?.distance / to_avatar))
-        .collect();
-    surface.sort_by(f64::total_cmp);
-    let surface_mean_mm = surface.iter().sum::<f64>() / surface.len().max(1) as f64;
-    let surface_p95_mm = surface
-        .get((surface.len() * 95 / 100).min(surface.len().saturating_sub(1)))
-        .copied()
-        .unwrap_or(0.0);
-    let largest = field.iter().map(|u| u.length()).fold(0.0, f64::max) / to_avatar;
-    Ok(TakenFace {
-        asked_largest_mm,
-        surface_mean_mm,
-        surface_p95_mm,
-        avatar: taken,
-        registration: moved_registration,
+    Ok(SkinChange {
         moved: field,
-        fit_mean_mm: fits.iter().sum::<f64>() / fits.len().max(1) as f64,
-        fit_max_mm: fits.iter().copied().fold(0.0, f64::max),
-        points_left_out: (0..points.len() as u32)
-            .filter(|i| !kept[*i as usize])
-            .collect(),
-        largest_mm: largest,
-        eyeballs,
-        seconds: started.elapsed().as_secs_f64(),
+        asked_largest_mm,
+        positions,
+        triangles,
+        points,
+        wanted,
+        change_at_mask,
+        kept,
+        to_avatar,
+        started,
     })
+}
+
+/// `field` at a mask vertex's point on the skin (its triangle's corners
+/// and barycentrics), if it has one.
+fn at(point: &Option<([u32; 3], [f64; 3])>, field: &[DVec3]) -> Option<DVec3> {
+    point.map(|(t, b)| (0..3).map(|k| field[t[k] as usize] * b[k]).sum::<DVec3>())
+}
+
+impl SkinChange {
+    /// The person's face taken: what the skin holds follows it
+    /// ([`follow_skin`]), and the new rest is measured against the scan.
+    pub fn followed(
+        self,
+        avatar: &Avatar,
+        registration: &FaceRegistration,
+    ) -> Result<TakenFace, TakeFaceError> {
+        let SkinChange {
+            moved: mut field,
+            asked_largest_mm,
+            positions,
+            triangles,
+            points,
+            wanted,
+            change_at_mask,
+            kept,
+            to_avatar,
+            started,
+        } = self;
+        let eyeballs = follow_skin(avatar, &positions, registration, &mut field, to_avatar);
+
+        let taken = avatar
+            .with_rest_moved(&field)
+            .map_err(|_| TakeFaceError::Unsolved)?;
+        let new_positions: Vec<DVec3> =
+            positions.iter().zip(&field).map(|(p, u)| *p + *u).collect();
+        let moved_registration = registration
+            .with_mask_moved(&taken, |i| {
+                at(&points[i], &field).unwrap_or(change_at_mask[i])
+            })
+            .map_err(|_| TakeFaceError::Unsolved)?;
+        let fits: Vec<f64> = points
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| kept[*i])
+            .filter_map(|(i, point)| {
+                Some((at(point, &new_positions)? - wanted[i]).length() / to_avatar)
+            })
+            .collect();
+        // How far the scanned face is from the new skin, wherever the mask
+        // lies on the skin (left out or not): the face a user compares.
+        let new_skin = TriangleTree::new(&new_positions, &triangles);
+        let mut surface: Vec<f64> = (0..points.len())
+            .filter(|i| points[*i].is_some())
+            .filter_map(|i| Some(new_skin.closest(wanted[i])?.distance / to_avatar))
+            .collect();
+        surface.sort_by(f64::total_cmp);
+        let surface_mean_mm = surface.iter().sum::<f64>() / surface.len().max(1) as f64;
+        let surface_p95_mm = surface
+            .get((surface.len() * 95 / 100).min(surface.len().saturating_sub(1)))
+            .copied()
+            .unwrap_or(0.0);
+        let largest = field.iter().map(|u| u.length()).fold(0.0, f64::max) / to_avatar;
+        Ok(TakenFace {
+            asked_largest_mm,
+            surface_mean_mm,
+            surface_p95_mm,
+            avatar: taken,
+            registration: moved_registration,
+            moved: field,
+            fit_mean_mm: fits.iter().sum::<f64>() / fits.len().max(1) as f64,
+            fit_max_mm: fits.iter().copied().fold(0.0, f64::max),
+            points_left_out: (0..points.len() as u32)
+                .filter(|i| !kept[*i as usize])
+                .collect(),
+            largest_mm: largest,
+            eyeballs,
+            seconds: started.elapsed().as_secs_f64(),
+        })
+    }
 }

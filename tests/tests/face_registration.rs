@@ -494,6 +494,68 @@ fn the_default_avatars_face_is_found_where_it_truly_is() {
 /// the fit's pull towards the skin's point values leaves shapes that
 /// barely move the face region (mouthRoll*) up to 57% of their small
 /// motion there; it is printed, not asserted.
+/// A person who moves less than the avatar's artist posed a shape (their
+/// cheekPuff 0.4 of the template's, the avatar's own cheekPuff the
+/// template's) gets the avatar's own shape at the person's amount: Eq.
+/// (4)'s prior pulls towards the own shape scaled to the person's motion
+/// on the face (`retargeting` module docs), so the skin beyond the face
+/// moves no further than the face. Pulled towards the own shape at full
+/// weight, as before, what that shape moves beyond the face (here the
+/// neck) held its weight at 0.74.
+#[test]
+fn a_person_who_moves_less_than_the_avatar_gets_the_avatars_own_shape_scaled() {
+    use likeness::avatar::retargeting::retarget;
+    use likeness_sim::default_avatar::default_avatar;
+    let built = default_avatar();
+    let rig = built.own_rig_on_mask();
+    let found = find_face(&built.avatar, &face_mask().topology, &rig).expect("a face");
+    // The avatar's cheekPuff also moves the neck below the face, 3 mm
+    // out, as an artist's may (the stock one fades out at the face).
+    let positions = built.avatar.positions();
+    let chin = found
+        .map
+        .face
+        .iter()
+        .map(|f| positions[f.vertex as usize].y)
+        .fold(f32::INFINITY, f32::min);
+    let offsets = built.avatar.vertex_offsets().to_vec();
+    let avatar = built
+        .avatar
+        .clone()
+        .edited(|meshes, parts| {
+            for (k, part) in parts.iter_mut().enumerate() {
+                let names = &meshes[part.mesh].target_names;
+                let Some(t) = names.iter().position(|n| n == "cheekPuff") else {
+                    continue;
+                };
+                for (v, d) in part.targets[t].iter_mut().enumerate() {
+                    if k == 0 && positions[offsets[k] + v].y < chin {
+                        *d += glam::Vec3::Z * 0.003;
+                    }
+                }
+            }
+        })
+        .expect("a valid avatar");
+    let mut deltas = rig.deltas().to_vec();
+    for d in &mut deltas[Blendshape::CheekPuff.index()] {
+        *d *= 0.4;
+    }
+    let person = rig.with_deltas(deltas).expect("same size");
+    let retargeting = retarget(&avatar, &found, &person).expect("solves");
+    let own = retargeting
+        .targets
+        .iter()
+        .position(|t| t.name == "cheekPuff")
+        .expect("the avatar has cheekPuff");
+    let w = retargeting.weights[Blendshape::CheekPuff.index()][own];
+    assert!((w - 0.4).abs() <= 0.02, "cheekPuff's own weight {w}");
+    assert!(
+        retargeting.relative_residual[Blendshape::CheekPuff.index()] < 0.1,
+        "residual {}",
+        retargeting.relative_residual[Blendshape::CheekPuff.index()]
+    );
+}
+
 #[test]
 fn retargeting_the_template_onto_the_default_avatar_reproduces_it() {
     use likeness::avatar::retargeting::retarget;

@@ -3,10 +3,11 @@
 //! combination of the avatar's own `k` blendshapes `B̃_i`. Beyond the
 //! paper, the ridge pulls the weights towards the avatar's own shape of
 //! the same name (`e_j`: 1 for the avatar's target named `j`, both halves
-//! of a split one, 0 elsewhere) instead of towards zero:
+//! of a split one, 0 elsewhere), at the amount `s_j` the person shows of it
+//! (below), instead of towards zero:
 //!
 //! ```text
-//! E_j(w̃) = ‖Σ_i w̃_i B̃_i − M B_j‖² + Σ_i (μ + U_i) (w̃_i − e_ji)²,
+//! E_j(w̃) = ‖Σ_i w̃_i B̃_i − M B_j‖² + Σ_i (μ + U_i) (w̃_i − s_j e_ji)²,
 //! w̃_j = argmin E_j over 0 ≤ w̃_i ≤ 1 (module docs: one may pass 1),
 //! ```
 //!
@@ -14,8 +15,9 @@
 //! morph targets grouped by name across meshes, [`avatar_blendshapes`]) at
 //! the `F` face vertices and `U` the diagonal of the `U_i` (below). All 52
 //! shapes share the `k × k` matrix `GᵀG + μI + U`; without the bounds each
-//! would solve `(GᵀG + μI + U) w̃_j = Gᵀ M B_j + (μI + U) e_j`. `M B_j` is the mask's displacement carried into
-//! the avatar's frame by the registration's similarity (`s R δ`, then `M`).
+//! would solve `(GᵀG + μI + U) w̃_j = Gᵀ M B_j + (μI + U) s_j e_j`.
+//! `M B_j` is the mask's displacement carried into the avatar's frame by
+//! the registration's similarity (`s R δ`, then `M`).
 //!
 //! **Like with like.** `M B_j` is a field at the mask's resolution: linear
 //! across each mask triangle. `G`'s columns are therefore the avatar's
@@ -50,6 +52,28 @@
 //! targets put a lid of the default avatar 0.09 mm into the eyeball when
 //! the person squinted looking up.
 //!
+//! **How much of the own shape.** The prior is the own shape at the amount
+//! of it the person's motion shows on the face, `s_j e_j` with `s_j =
+//! ⟨G e_j, M B_j⟩ / ‖G e_j‖²` clamped to `[0, 1]` ([`own_amount`]; 1 where
+//! the face does not see the own shape): what the face cannot see moves as
+//! the artist made it, as far as the face shows the person moving. Pulled
+//! towards the own shape at full weight, a person who puffs their cheeks a
+//! third as far as ICT-FaceKit's cheekPuff kept that target near weight 1
+//! (what it moves beyond the face, `U_i`, held it there), and `A_j` moved
+//! the face three to four times further from the person's shape than
+//! standing still would (simulated people, seeds 2–5: cheekPuff and
+//! mouthRight 302–411%; the skin beyond the face swelled as the artist's
+//! puff while the face moved as the person's). A shape whose own target
+//! moves the lids (the skin round an eyeball, [`LIDS_REACH`]) or turns an
+//! eyeball or the jaw, by at least [`TURNS_SHARE`] of its largest motion,
+//! keeps the full weight as its prior: a blink at weight 1 is the eye
+//! closed, however far the artist's lids travel to close it (scaled to the
+//! mask's lid travel, the MPFB body's blinks left 2–3% of the eyeball seen
+//! for three of ten people), the lids' contacts with the eyeball are the
+//! artist's (a committed subject's eyeSquintRight with eyeLookUpRight put
+//! a lid 0.21 mm into the eyeball), and a gaze or a jaw at weight 1 is the
+//! artist's rotation, which the chin on the mask does not measure.
+//!
 //! **μ.** `μ = μ₀ · tr(GᵀG) / k` with the dimensionless [`RELATIVE_RIDGE`]
 //! μ₀: both terms of `E_j` are then in the same units (the avatar's
 //! length², summed over its face vertices), so μ₀ means the same on a
@@ -71,7 +95,8 @@
 //! made for, and each `w̃_j` is the least of `E_j` over the box
 //! ([`crate::geometry::box_quadratic`]). One weight may pass 1: the
 //! avatar's own target of shape `j`, where that target turns the jaw (it
-//! moves the teeth or the tongue). It stands for a rotation a person can
+//! moves the teeth or the tongue, by at least [`TURNS_SHARE`] of its
+//! largest motion). It stands for a rotation a person can
 //! take further than the artist posed it (a person who opens wider than
 //! the avatar's jawOpen, as the chin on the mask shows), and past 1 it
 //! keeps turning the same way; capped at 1, the teeth and the neck stayed
@@ -305,11 +330,12 @@ pub fn mapped_shapes(
 
 /// The vertices whose motion the face does not see, for `U_i` (module
 /// docs): those of the face's parts beyond the face region, but the lids
-/// within [`LIDS_REACH`] eyeball radii of an eyeball's centre.
+/// ([`lid_vertices`]).
 fn unseen_vertices(
     avatar: &Avatar,
     registration: &FaceRegistration,
     positions: &[DVec3],
+    lids: &[bool],
 ) -> Vec<bool> {
     let offsets = avatar.vertex_offsets();
     let mut hidden = vec![false; positions.len()];
@@ -323,6 +349,18 @@ fn unseen_vertices(
             *x = false;
         }
     }
+    for (x, lid) in hidden.iter_mut().zip(lids) {
+        if *lid {
+            *x = false;
+        }
+    }
+    hidden
+}
+
+/// The vertices within [`LIDS_REACH`] eyeball radii of an eyeball's
+/// centre, the eyeballs' own aside: the lids and the skin round them.
+fn lid_vertices(registration: &FaceRegistration, positions: &[DVec3]) -> Vec<bool> {
+    let mut lids = vec![false; positions.len()];
     for eyeball in &registration.eyeballs {
         let points: Vec<DVec3> = eyeball
             .iter()
@@ -333,13 +371,18 @@ fn unseen_vertices(
             .iter()
             .map(|p| p.distance(centre))
             .fold(0.0, f64::max);
-        for (p, x) in positions.iter().zip(hidden.iter_mut()) {
+        for (p, x) in positions.iter().zip(lids.iter_mut()) {
             if p.distance(centre) <= LIDS_REACH * radius {
-                *x = false;
+                *x = true;
             }
         }
     }
-    hidden
+    for &v in registration.eyeballs.iter().flatten() {
+        if let Some(x) = lids.get_mut(v as usize) {
+            *x = false;
+        }
+    }
+    lids
 }
 
 /// Whether each avatar vertex belongs to a piece the jaw turns: the teeth
@@ -382,10 +425,19 @@ pub fn retarget(
         &positions,
         &face_part_triangles(avatar, registration),
     );
-    let hidden = unseen_vertices(avatar, registration, &positions);
+    let lids = lid_vertices(registration, &positions);
+    let hidden = unseen_vertices(avatar, registration, &positions, &lids);
     let jaw = jaw_piece_vertices(avatar, registration);
     let mut unseen = vec![0.0; targets.len()];
     let mut turns_the_jaw = vec![false; targets.len()];
+    let mut turns_an_eye = vec![false; targets.len()];
+    let mut moves_the_lids = vec![false; targets.len()];
+    let mut in_eyeball = vec![false; positions.len()];
+    for &v in registration.eyeballs.iter().flatten() {
+        if let Some(x) = in_eyeball.get_mut(v as usize) {
+            *x = true;
+        }
+    }
     let mut g = Mat::<f64>::zeros(rows, targets.len());
     for (i, blendshape) in targets.iter().enumerate() {
         let d: Vec<DVec3> = avatar
@@ -393,7 +445,9 @@ pub fn retarget(
             .iter()
             .map(|d| d.as_dvec3())
             .collect();
-        turns_the_jaw[i] = d.iter().zip(&jaw).any(|(d, r)| *r && *d != DVec3::ZERO);
+        turns_the_jaw[i] = turns_a_piece(&d, &jaw);
+        turns_an_eye[i] = turns_a_piece(&d, &in_eyeball);
+        moves_the_lids[i] = turns_a_piece(&d, &lids);
         unseen[i] = d
             .iter()
             .zip(&hidden)
@@ -442,8 +496,22 @@ pub fn retarget(
             TargetName::Arkit(shape) | TargetName::Half(shape, _) => shape,
             TargetName::Other => continue,
         };
-        gt_b[(i, shape.index())] += mu + unseen[i];
         own_of[i] = Some(shape.index());
+    }
+    for j in 0..BLENDSHAPE_COUNT {
+        let own: Vec<usize> = (0..k).filter(|&i| own_of[i] == Some(j)).collect();
+        // A shape that moves the lids, or turns an eyeball or the jaw,
+        // keeps the artist's full weight (module docs).
+        let full = own
+            .iter()
+            .any(|&i| moves_the_lids[i] || turns_an_eye[i] || turns_the_jaw[i]);
+        let amount = match full {
+            true => 1.0,
+            false => own_amount(&gram, &own, |i| gt_b[(i, j)]),
+        };
+        for &i in &own {
+            gt_b[(i, j)] += (mu + unseen[i]) * amount;
+        }
     }
     // Each shape's weights, the least of E_j over the box (module docs).
     let mut w = Mat::<f64>::zeros(k, BLENDSHAPE_COUNT);
@@ -485,4 +553,47 @@ pub fn retarget(
         relative_residual,
         floored_residual,
     })
+}
+
+/// A target turns a rigid piece (the jaw's teeth, gums and tongue, or an
+/// eyeball), or moves the lids, when it moves some vertex of them by more
+/// than this share of the most it moves any vertex: a rig's jaw shapes move the
+/// lower teeth as far as the chin, or nearly (ICT-FaceKit's jawOpen,
+/// jawLeft, jawRight and jawForward 81–100%), while a rig made from scans
+/// can leave a little noise on pieces its other shapes do not move
+/// (ICT-FaceKit's cheekPuff and mouthStretchRight move the teeth by 1.2%
+/// and 2.8% of their largest motion).
+pub const TURNS_SHARE: f64 = 0.25;
+
+/// Whether displacement `d` turns (or moves) the piece whose vertices
+/// `piece` flags ([`TURNS_SHARE`]).
+fn turns_a_piece(d: &[DVec3], piece: &[bool]) -> bool {
+    let largest = d.iter().map(|x| x.length()).fold(0.0, f64::max);
+    let on_piece = d
+        .iter()
+        .zip(piece)
+        .filter(|(_, p)| **p)
+        .map(|(x, _)| x.length())
+        .fold(0.0, f64::max);
+    on_piece > 0.0 && on_piece > TURNS_SHARE * largest
+}
+
+/// `s_j`, how much of the avatar's own shape `j` the person's motion shows
+/// on the face (module docs, "How much of the own shape"): the
+/// least-squares scale of the own targets `own` (both halves of a split
+/// one) to the person's motion, `⟨G e_j, M B_j⟩ / ‖G e_j‖²` from `GᵀG`
+/// (`gram`) and `Gᵀ M B_j` (`along(i)` for target `i`), clamped to
+/// `[0, 1]`; 1 where the face does not see the own shape (eyeLook, a
+/// tongue) or the avatar has none.
+pub fn own_amount(gram: &Mat<f64>, own: &[usize], along: impl Fn(usize) -> f64) -> f64 {
+    let seen: f64 = own
+        .iter()
+        .flat_map(|&a| own.iter().map(move |&b| gram[(a, b)]))
+        .sum();
+    let along: f64 = own.iter().map(|&i| along(i)).sum();
+    if seen > 0.0 && along.is_finite() {
+        (along / seen).clamp(0.0, 1.0)
+    } else {
+        1.0
+    }
 }

@@ -107,6 +107,7 @@
 //! is the automatic retargeting; the weights themselves are a product on
 //! their own (a map from ARKit's 52 weights to the avatar's targets).
 
+use super::implant_check::eyeball_flags;
 use super::model::Avatar;
 use super::own_shapes::{MaskOnSkin, face_part_triangles};
 use super::registration::FaceRegistration;
@@ -358,8 +359,13 @@ fn unseen_vertices(
 }
 
 /// The vertices within [`LIDS_REACH`] eyeball radii of an eyeball's
-/// centre, the eyeballs' own aside: the lids and the skin round them.
-fn lid_vertices(registration: &FaceRegistration, positions: &[DVec3]) -> Vec<bool> {
+/// centre, the eyeballs' own (`in_eyeball`) aside: the lids and the skin
+/// round them.
+fn lid_vertices(
+    registration: &FaceRegistration,
+    positions: &[DVec3],
+    in_eyeball: &[bool],
+) -> Vec<bool> {
     let mut lids = vec![false; positions.len()];
     for eyeball in &registration.eyeballs {
         let points: Vec<DVec3> = eyeball
@@ -377,10 +383,8 @@ fn lid_vertices(registration: &FaceRegistration, positions: &[DVec3]) -> Vec<boo
             }
         }
     }
-    for &v in registration.eyeballs.iter().flatten() {
-        if let Some(x) = lids.get_mut(v as usize) {
-            *x = false;
-        }
+    for (x, eyeball) in lids.iter_mut().zip(in_eyeball) {
+        *x &= !eyeball;
     }
     lids
 }
@@ -425,19 +429,14 @@ pub fn retarget(
         &positions,
         &face_part_triangles(avatar, registration),
     );
-    let lids = lid_vertices(registration, &positions);
+    let in_eyeball = eyeball_flags(avatar, registration);
+    let lids = lid_vertices(registration, &positions, &in_eyeball);
     let hidden = unseen_vertices(avatar, registration, &positions, &lids);
     let jaw = jaw_piece_vertices(avatar, registration);
     let mut unseen = vec![0.0; targets.len()];
     let mut turns_the_jaw = vec![false; targets.len()];
     let mut turns_an_eye = vec![false; targets.len()];
     let mut moves_the_lids = vec![false; targets.len()];
-    let mut in_eyeball = vec![false; positions.len()];
-    for &v in registration.eyeballs.iter().flatten() {
-        if let Some(x) = in_eyeball.get_mut(v as usize) {
-            *x = true;
-        }
-    }
     let mut g = Mat::<f64>::zeros(rows, targets.len());
     for (i, blendshape) in targets.iter().enumerate() {
         let d: Vec<DVec3> = avatar
@@ -445,9 +444,10 @@ pub fn retarget(
             .iter()
             .map(|d| d.as_dvec3())
             .collect();
-        turns_the_jaw[i] = turns_a_piece(&d, &jaw);
-        turns_an_eye[i] = turns_a_piece(&d, &in_eyeball);
-        moves_the_lids[i] = turns_a_piece(&d, &lids);
+        let largest = d.iter().map(|x| x.length()).fold(0.0, f64::max);
+        turns_the_jaw[i] = turns_a_piece(&d, largest, &jaw);
+        turns_an_eye[i] = turns_a_piece(&d, largest, &in_eyeball);
+        moves_the_lids[i] = turns_a_piece(&d, largest, &lids);
         unseen[i] = d
             .iter()
             .zip(&hidden)
@@ -565,10 +565,9 @@ pub fn retarget(
 /// and 2.8% of their largest motion).
 pub const TURNS_SHARE: f64 = 0.25;
 
-/// Whether displacement `d` turns (or moves) the piece whose vertices
-/// `piece` flags ([`TURNS_SHARE`]).
-fn turns_a_piece(d: &[DVec3], piece: &[bool]) -> bool {
-    let largest = d.iter().map(|x| x.length()).fold(0.0, f64::max);
+/// Whether displacement `d`, at most `largest` long, turns (or moves) the
+/// piece whose vertices `piece` flags ([`TURNS_SHARE`]).
+fn turns_a_piece(d: &[DVec3], largest: f64, piece: &[bool]) -> bool {
     let on_piece = d
         .iter()
         .zip(piece)

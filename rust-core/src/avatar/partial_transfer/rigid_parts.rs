@@ -234,14 +234,19 @@ mod tests {
     use super::*;
     use glam::DMat3;
 
-    #[test]
-    fn a_sum_of_rotations_is_made_rigid_and_a_rotation_is_left_alone() {
-        let rest: Vec<DVec3> = (0..20)
+    /// Twenty points spread in 3D, no three in a line.
+    fn cloud() -> Vec<DVec3> {
+        (0..20)
             .map(|i| {
                 let f = i as f64;
                 DVec3::new((f * 0.9).sin(), (f * 0.4).cos(), (f * 1.7).sin() * 0.3)
             })
-            .collect();
+            .collect()
+    }
+
+    #[test]
+    fn a_sum_of_rotations_is_made_rigid_and_a_rotation_is_left_alone() {
+        let rest = cloud();
         let vertices: Vec<u32> = (0..20).collect();
         let turn = |a: f64| -> Vec<DVec3> {
             rest.iter()
@@ -262,12 +267,7 @@ mod tests {
         // A rig whose own target turns the piece and bends one vertex a
         // little (sculpted, not turned): the same shape given back is kept
         // as it is; twice the bend is made rigid.
-        let rest: Vec<DVec3> = (0..20)
-            .map(|i| {
-                let f = i as f64;
-                DVec3::new((f * 0.9).sin(), (f * 0.4).cos(), (f * 1.7).sin() * 0.3)
-            })
-            .collect();
+        let rest = cloud();
         let mut sculpted: Vec<DVec3> = rest
             .iter()
             .map(|p| DMat3::from_rotation_y(0.2) * *p - *p)

@@ -647,20 +647,18 @@ fn print_summary(s: &Summary) {
         s.out_bytes as f64 / 1e6,
         s.shapes
     );
-    match s.face_fit_mm {
-        Some([mean, max]) => {
+    match (s.face_surface_mm, s.face_fit_mm) {
+        (Some([mean, p95]), Some([fit_mean, fit_max])) => {
             println!(
-                "Rest face: the person's scanned face, within {mean:.3} mm (mean), {max:.3} mm (largest) at the mask's vertices; the rest moved by up to {:.1} mm",
+                "Rest face: the person's scanned face, lying {mean:.3} mm (mean), {p95:.2} mm (95%) from the new skin; the rest moved by up to {:.1} mm",
                 s.face_largest_change_mm.unwrap_or(0.0)
             );
-            if let (Some([mean, p95]), Some(left_out)) = (s.face_surface_mm, s.face_points_left_out)
-            {
-                println!(
-                    "  the scan lies {mean:.3} mm (mean), {p95:.2} mm (95%) from the new skin; {left_out} mask vertices asked nothing of it (off the skin, or folded on it)"
-                );
-            }
+            println!(
+                "  the registration's points {fit_mean:.3} mm (mean), {fit_max:.2} mm (largest) from their scanned places; {} mask vertices asked nothing of the skin (off it, or folded on it)",
+                s.face_points_left_out.unwrap_or(0)
+            );
         }
-        None => println!("Rest face: the avatar's own"),
+        _ => println!("Rest face: the avatar's own"),
     }
     if s.implant_face_vertices > 0 {
         println!(

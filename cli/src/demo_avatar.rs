@@ -6,7 +6,7 @@ use crate::avatar::default_glb;
 use likeness::Session;
 use likeness::avatar::person_face::take_face;
 use likeness::avatar::personal_avatar::{AvatarShapes, PersonInput, RestFace, personal_avatar};
-use likeness::avatar::rest_check::rest_creases;
+use likeness::avatar::rest_check::{rest_creases, scan_bend};
 use likeness::io::atomic_write::write_atomically;
 use likeness::personalize::{Method, personalize};
 use std::path::Path;
@@ -82,7 +82,8 @@ pub fn demo_avatar(
     let other_face = take_face(&glb.avatar, registration, other_neutral.neutral())?;
     // The product's own rule: a face that would crease the skin is not
     // taken, and the picture says so rather than show it.
-    let other_creases = rest_creases(&glb.avatar, registration, &other_face.moved);
+    let bend = scan_bend(&glb.avatar, registration, other_neutral.neutral());
+    let other_creases = rest_creases(&glb.avatar, registration, &other_face.moved, &bend);
     if let Some(creases) = &other_creases {
         eprintln!("warning: {other_name}: {creases}");
     }

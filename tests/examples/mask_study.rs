@@ -11,7 +11,9 @@
 //! face match (own face, default avatar), the largest change at rest, the
 //! most torn edges and folded triangles over the shapes, each blink's
 //! eyeball seen (own, personalized), the deepest lid, and the checks'
-//! warnings.
+//! warnings. `AVATARS=a,b` keeps only those avatars; `TAKE_FACE=1` takes
+//! the person's face on every avatar (as `likeness avatar --take-face`),
+//! not only on the default one.
 
 use likeness::avatar::glb::{GlbAvatar, read_avatar, read_avatar_bytes};
 use likeness::avatar::personal_avatar::{AvatarShapes, PersonInput, RestFace, personal_avatar};
@@ -74,6 +76,10 @@ fn most_folded(
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
+    // TAKE_FACE=1: the person's face on every avatar, as `--take-face`.
+    let asked_face = std::env::var("TAKE_FACE")
+        .is_ok()
+        .then_some(RestFace::Person);
     let seeds = study_seeds()?;
     let mut bases = vec![FaceBasis::Simulator];
     if let Some(face) = shared_arkit_face() {
@@ -104,7 +110,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     }
                 };
                 let registration_s = started.elapsed().as_secs_f64();
-                let face = RestFace::chosen(name == "default", None);
+                let face = RestFace::chosen(name == "default", asked_face);
                 let made = personal_avatar(
                     &glb,
                     &input,

@@ -1,16 +1,19 @@
 //! Taking the person's face on the default avatar, whatever the crease
 //! check would decide (`person_face::take_face` alone), for people
 //! simulated on either mask: how far the scan lies from the new skin, how
-//! many head edges the new rest creases (the check's rule,
-//! `rest_check::REST_CREASE_ANGLE`), and how many of those crease by more
-//! than the scan itself bends the mask there (the rule the shapes' crease
-//! smoothing uses: the person's own bend plus 22.5°).
+//! many head edges the new rest turns past `rest_check::REST_CREASE_ANGLE`,
+//! and how many of those by more than the scan itself bends the mask
+//! there plus 22.5° (the check's rule, `rest_check::rest_creases`).
 //!
 //! ```text
 //! cargo run --release -p likeness-tests --example take_face_study -- [SEEDS…]
 //! ```
 //!
-//! The figures behind issue 41's point 3 (`docs/avatar.md`).
+//! The figures behind issue 41's point 3 (`docs/avatar.md`). `AVATAR=name`
+//! takes the face on a generated variant instead of the default avatar;
+//! `DUMP=dir` writes, per person, the new head, the stock one, the scan,
+//! the mask as registered, the creased edges, the points left out and
+//! each scanned point's distance from the new skin, to look at.
 
 use glam::DVec3;
 use likeness::avatar::Avatar;
@@ -18,32 +21,11 @@ use likeness::avatar::glb::read_avatar_bytes;
 use likeness::avatar::implant_check::head_triangles;
 use likeness::avatar::person_face::{TakenFace, take_face};
 use likeness::avatar::registration::{FaceRegistration, find_face};
-use likeness::avatar::rest_check::REST_CREASE_ANGLE;
+use likeness::avatar::rest_check::{OWN_CREASE_ANGLE, REST_CREASE_ANGLE, scan_bend};
 use likeness::geometry::dihedral_angle::Hinges;
 use likeness_sim::arkit_face::shared_arkit_face;
 use likeness_sim::face_basis::FaceBasis;
 use likeness_tests::arkit_people::{ArkitPerson, study_seeds};
-use std::f64::consts::FRAC_PI_8;
-
-/// For each avatar vertex, how much the scanned neutral bends the
-/// registered mask at the mask triangle the map takes it to: the largest
-/// change of a dihedral angle at the triangle's edges (radians).
-fn scan_bend(avatar: &Avatar, found: &FaceRegistration, neutral: &[DVec3]) -> Vec<f64> {
-    let s = found.similarity;
-    let on_avatar = &found.mask_on_avatar;
-    let change: Vec<DVec3> = neutral
-        .iter()
-        .zip(on_avatar)
-        .map(|(p, m)| s.apply(*p) - *m)
-        .collect();
-    let hinges = Hinges::new(on_avatar, &found.map.mask_triangles);
-    let at_triangle = hinges.largest_at_triangles(&hinges.changes(on_avatar, &change));
-    let mut bend = vec![0.0; avatar.vertex_count()];
-    for f in &found.map.face {
-        bend[f.vertex as usize] = at_triangle[f.triangle as usize];
-    }
-    bend
-}
 
 /// The head edges the new rest creases, and those among them creased by
 /// more than the scan bends the mask there plus 22.5°.
@@ -52,7 +34,7 @@ fn creases(
     found: &FaceRegistration,
     taken: &TakenFace,
     bend: &[f64],
-) -> (usize, usize) {
+) -> (usize, usize, Vec<(u32, u32)>) {
     let rest: Vec<DVec3> = avatar.positions().iter().map(|p| p.as_dvec3()).collect();
     let hinges = Hinges::new(&rest, &head_triangles(avatar, found));
     let changes = hinges.changes(&rest, &taken.moved);
@@ -67,18 +49,105 @@ fn creases(
                 .flat_map(|&t| hinges.triangles()[t])
                 .map(|v| bend[v as usize])
                 .fold(0.0, f64::max);
-            changes[k] > allowed + FRAC_PI_8
+            changes[k] > allowed + OWN_CREASE_ANGLE
         })
         .count();
-    (creased.len(), beyond)
+    let edges = creased.iter().map(|&k| hinges.edges()[k]).collect();
+    (creased.len(), beyond, edges)
+}
+
+/// Writes the taken head (`head.obj`) and the stock one (`stock.obj`), its creased edges (`creases.txt`,
+/// one vertex pair a line) and the scanned places of the points left out
+/// (`left_out.txt`, avatar frame) the scan (`scan.obj`) and the mask as registered (`registered.obj`) and each scanned point's distance to the new head (`scan_to_skin.txt`, mm, and whether it is on the skin) into `dir`, to look at.
+fn dump(
+    dir: &std::path::Path,
+    avatar: &Avatar,
+    found: &FaceRegistration,
+    taken: &TakenFace,
+    neutral: &[DVec3],
+    creased: &[(u32, u32)],
+) -> std::io::Result<()> {
+    use std::fmt::Write as _;
+    std::fs::create_dir_all(dir)?;
+    let head = head_triangles(avatar, found);
+    for (name, scale) in [("head.obj", 1.0), ("stock.obj", 0.0)] {
+        let mut obj = String::new();
+        for (p, u) in avatar.positions().iter().zip(&taken.moved) {
+            let q = p.as_dvec3() + *u * scale;
+            let _ = writeln!(obj, "v {} {} {}", q.x, q.y, q.z);
+        }
+        for t in &head {
+            let _ = writeln!(obj, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1);
+        }
+        std::fs::write(dir.join(name), obj)?;
+    }
+    let scanned: Vec<DVec3> = neutral.iter().map(|p| found.similarity.apply(*p)).collect();
+    for (name, points) in [
+        ("scan.obj", &scanned),
+        ("registered.obj", &found.mask_on_avatar),
+    ] {
+        let mut obj = String::new();
+        for q in points {
+            let _ = writeln!(obj, "v {} {} {}", q.x, q.y, q.z);
+        }
+        for t in &found.map.mask_triangles {
+            let _ = writeln!(obj, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1);
+        }
+        std::fs::write(dir.join(name), obj)?;
+    }
+    let lines: String = creased.iter().map(|(a, b)| format!("{a} {b}\n")).collect();
+    std::fs::write(dir.join("creases.txt"), lines)?;
+    let left: String = taken
+        .points_left_out
+        .iter()
+        .map(|&i| {
+            let q = found.similarity.apply(neutral[i as usize]);
+            format!("{i} {} {} {}\n", q.x, q.y, q.z)
+        })
+        .collect();
+    std::fs::write(dir.join("left_out.txt"), left)?;
+    let new: Vec<DVec3> = avatar
+        .positions()
+        .iter()
+        .zip(&taken.moved)
+        .map(|(p, u)| p.as_dvec3() + *u)
+        .collect();
+    let skin = likeness::geometry::closest_point::TriangleTree::new(&new, &head);
+    let to_mm = 1e3 / found.similarity.scale;
+    let stock: Vec<DVec3> = avatar.positions().iter().map(|p| p.as_dvec3()).collect();
+    let on_skin = likeness::avatar::own_shapes::skin_points(
+        found,
+        &stock,
+        &likeness::avatar::own_shapes::face_part_triangles(avatar, found),
+        likeness::avatar::registration::find_face::FACE_TOLERANCE_MM / to_mm,
+    );
+    let far: String = scanned
+        .iter()
+        .zip(&on_skin)
+        .map(|(q, s)| {
+            let d = skin.closest(*q).map_or(f64::NAN, |c| c.distance * to_mm);
+            format!("{d} {}\n", u8::from(s.is_some()))
+        })
+        .collect();
+    std::fs::write(dir.join("scan_to_skin.txt"), far)
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let seeds = study_seeds()?;
-    let glb = read_avatar_bytes(
-        &likeness_sim::default_avatar::default_avatar_glb()?,
-        "default",
-    )?;
+    // AVATAR=name: one of the generated variants instead of the default.
+    let glb = match std::env::var("AVATAR") {
+        Ok(name) => {
+            let variant = likeness_sim::avatar_variants::avatar_variants()
+                .into_iter()
+                .find(|v| v.name == name)
+                .ok_or(format!("no generated avatar '{name}'"))?;
+            read_avatar_bytes(&variant.glb, variant.name)?
+        }
+        Err(_) => read_avatar_bytes(
+            &likeness_sim::default_avatar::default_avatar_glb()?,
+            "default",
+        )?,
+    };
     let mut bases = vec![FaceBasis::Simulator];
     if let Some(face) = shared_arkit_face() {
         bases.push(FaceBasis::Arkit(face));
@@ -91,10 +160,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let found = find_face(&glb.avatar, &session.topology, rig)?;
             let taken = take_face(&glb.avatar, &found, neutral)?;
             let bend = scan_bend(&glb.avatar, &found, neutral);
-            let (creased, beyond) = creases(&glb.avatar, &found, &taken, &bend);
+            let (creased, beyond, edges) = creases(&glb.avatar, &found, &taken, &bend);
+            if let Ok(dir) = std::env::var("DUMP") {
+                let dir = std::path::Path::new(&dir).join(format!("{}-{seed}", basis.name()));
+                dump(&dir, &glb.avatar, &found, &taken, neutral, &edges)?;
+            }
             println!(
-                "{} {seed}: scan to skin {:.3} mm mean, {:.2} mm p95; points {:.3} mm mean, {:.2} mm max, {} left out; largest change {:.1} mm; {:.2} s; creased edges {creased}, {beyond} past the scan's own bend",
+                "{} {seed}: eyes {:?}; scan to skin {:.3} mm mean, {:.2} mm p95; points {:.3} mm mean, {:.2} mm max, {} left out; largest change {:.1} mm; {:.2} s; creased edges {creased}, {beyond} past the scan's own bend",
                 basis.name(),
+                taken.eyeballs,
                 taken.surface_mean_mm,
                 taken.surface_p95_mm,
                 taken.fit_mean_mm,

@@ -23,8 +23,9 @@ use likeness::{Blendshape, Blendshapes, Topology};
 /// teeth in front.
 #[derive(Clone, Debug)]
 pub struct FaceChecks {
-    /// Largest distance of the new rest from the scanned neutral at the
-    /// mask's vertices (mm, mask scale).
+    /// Largest distance of the scanned neutral from the new rest's skin
+    /// (its closest point), over the mask's vertices on the skin (mm, mask
+    /// scale).
     pub fit_max_mm: f64,
     /// Mean edge strain of the rest change along the face region's border,
     /// and in the ring just inside it.
@@ -74,16 +75,17 @@ pub fn face_checks(
     let rest: Vec<DVec3> = avatar.positions().iter().map(|p| p.as_dvec3()).collect();
     let triangles = face_part_triangles(avatar, found);
 
-    // The fit, at the points the stock registration found.
+    // The fit: how far the scanned neutral lies from the new skin (its
+    // closest point), at the mask's vertices the stock registration put
+    // on the skin. Where along the skin a point lands is the
+    // registration's guess, so the fit is across it.
     let points = skin_points(&made.registration, &stock_rest, &triangles, f64::INFINITY);
+    let new_skin = TriangleTree::new(&rest, &triangles);
     let fit_max_mm = points
         .iter()
         .zip(person.neutral())
-        .filter_map(|(p, q)| {
-            let (t, b) = (*p)?;
-            let at: DVec3 = (0..3).map(|k| rest[t[k] as usize] * b[k]).sum();
-            Some((at - s.apply(*q)).length() * to_mm)
-        })
+        .filter(|(p, _)| p.is_some())
+        .filter_map(|(_, q)| Some(new_skin.closest(s.apply(*q))?.distance * to_mm))
         .fold(0.0, f64::max);
 
     // Strain of the rest change along the face's border.

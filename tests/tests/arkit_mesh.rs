@@ -79,19 +79,17 @@ fn arkits_mesh_finds_the_face_of_every_avatar() {
     }
 }
 
-/// Point 3, the skin through the scan: the default avatar's skin drawn
-/// through each of the five people's faces (`take_face`; the product does
-/// not keep it, since it creases the skin at rest:
-/// [`a_face_that_would_crease_the_skin_is_not_taken`]). Nothing off the
-/// face moves more than the face itself (else the avatar is refused,
-/// `AvatarError::RestSpike`: ARKit's inner lips, folded over the avatar's
-/// outer lips by the registration, once pulled the mouth's and the
-/// sockets' linings 230 mm out), and the scanned neutral lies on the new
-/// skin: within 0.3 mm on average over the mask's vertices on the
-/// skin, and within 1.25 mm at the 95th percentile (the goal is 0.8 mm,
-/// not met: the inner lips' curl and the nostrils, which the default
-/// avatar has no surface for, are 14–18% of the vertices, left out, and
-/// set the percentile at 0.9–1.1 mm).
+/// Point 3, the person's face on the default avatar: each of the five
+/// people's faces is taken (no crease past the scan's own bend beyond the
+/// limit, `rest_check::rest_creases`), nothing off the face moves more
+/// than the face itself (`rest_check::rest_spike`: ARKit's inner lips,
+/// folded over the avatar's outer lips by the registration, once pulled
+/// the mouth's and the sockets' linings 230 mm out), and the scanned
+/// neutral lies on the new skin within 0.3 mm on average over the mask's
+/// vertices on the skin. The 95th percentile is held at 1.0 mm: the goal
+/// is 0.8 mm, missed by 0.02–0.11 mm (0.82–0.91 mm), at the eye holes,
+/// whose rims the avatar's own lids keep (`person_face::surface_fit`),
+/// ARKit's inner lips and the nostrils.
 /// The most a skin vertex's change `moved` (avatar units) differs from the
 /// mean of its neighbours' (mm at the mask's scale), and that vertex: how
 /// far the skin is levered out of itself.
@@ -160,10 +158,21 @@ fn the_default_avatar_takes_the_face_of_five_people_on_arkits_mesh() {
             taken.surface_mean_mm
         );
         assert!(
-            taken.surface_p95_mm <= 1.25,
+            taken.surface_p95_mm <= 1.0,
             "seed {}: {}",
             person.seed,
             taken.surface_p95_mm
+        );
+        let bend = likeness::avatar::rest_check::scan_bend(
+            &glb.avatar,
+            &found,
+            person.personalized.neutral(),
+        );
+        assert_eq!(
+            likeness::avatar::rest_check::rest_creases(&glb.avatar, &found, &taken.moved, &bend),
+            None,
+            "seed {}",
+            person.seed
         );
         // No vertex of the skin is levered out of it: at a mouth's corner
         // the skin through both lips of the mask once moved 18–27 mm away
@@ -181,15 +190,6 @@ fn the_default_avatar_takes_the_face_of_five_people_on_arkits_mesh() {
             person.seed,
             jut.1,
             jut.0
-        );
-        // The points kept are passed through (on average; where lips the
-        // avatar holds together at rest are parted in the scan, by up to
-        // 1.1 mm, they stay together).
-        assert!(
-            taken.fit_mean_mm <= 0.05,
-            "seed {}: {}",
-            person.seed,
-            taken.fit_mean_mm
         );
     }
 }
@@ -312,14 +312,22 @@ fn the_simulators_people_are_checked_on_every_avatar() {
 /// mesh). A single one hangs over the open mouth as a strand.
 const MAX_LIP_SWAPS: usize = 3;
 
-/// A face the avatar's skin cannot take without creasing is not taken: a
-/// person on ARKit's mesh (whose coarse lips curl inwards) would crumple the
-/// default avatar's lips, so the avatar keeps its own face, says so in a
-/// warning, and still carries the person's motion.
+/// A face the avatar's skin cannot take without creasing is not taken:
+/// asked to take a person's face on ARKit's mesh, the avatar of other
+/// proportions (a face 12% wider, eyes closer, a longer nose) would
+/// crease 25–42 edges past the scan's own bend (limit 19), so it keeps
+/// its own face, says so in a warning, and still carries the person's
+/// motion. The default avatar takes the same face.
 #[test]
 fn a_face_that_would_crease_the_skin_is_not_taken() {
     let Some(people) = arkit_people() else { return };
-    let glb = default_glb();
+    let variant = avatar_variants()
+        .into_iter()
+        .find(|v| v.name == "other-proportions")
+        .expect("the variant");
+    let glb = read_avatar_bytes(&variant.glb, variant.name).expect("reads");
+    let made_there = made(&default_glb(), &people[0], RestFace::Person).expect("an avatar");
+    assert!(made_there.taken_face.is_some(), "{:?}", made_there.warnings);
     let made = made(&glb, &people[0], RestFace::Person).expect("an avatar");
     let creased: Vec<&AvatarWarning> = made
         .warnings

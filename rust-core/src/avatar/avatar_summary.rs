@@ -42,7 +42,7 @@ pub fn avatar_summary(glb: &GlbAvatar, made: &PersonalAvatar) -> String {
         own_face: made
             .taken_face
             .as_ref()
-            .map(|t| (t.fit_mean_mm, t.fit_max_mm)),
+            .map(|t| (t.surface_mean_mm, t.surface_p95_mm)),
         glb_bytes: made.glb.len(),
     };
     describe(&facts)
@@ -64,8 +64,8 @@ fn describe(f: &Facts) -> String {
         }
     };
     let face = match f.own_face {
-        Some((mean, max)) => format!(
-            "It has your face at rest, taken from your neutral scan (within {mean:.2} mm on average, {max:.2} mm at most). "
+        Some((mean, p95)) => format!(
+            "It has your face at rest, taken from your neutral scan (within {mean:.2} mm on average, {p95:.2} mm for 95% of it). "
         ),
         None => "It keeps its own face at rest. ".to_string(),
     };
@@ -107,7 +107,7 @@ mod tests {
         assert!(!text.contains("eyelid"));
         assert!(text.contains("It keeps its own face at rest."));
         facts.own_face = Some((0.004, 0.0191));
-        assert!(describe(&facts).contains("It has your face at rest, taken from your neutral scan (within 0.00 mm on average, 0.02 mm at most)."));
+        assert!(describe(&facts).contains("It has your face at rest, taken from your neutral scan (within 0.00 mm on average, 0.02 mm for 95% of it)."));
         assert!(text.ends_with("GLB: 10.6 MB."));
         facts.implanted = Some((9000, 1200, 3));
         assert!(describe(&facts).contains("; 3 eyelid vertices were moved"));

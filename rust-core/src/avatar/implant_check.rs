@@ -23,7 +23,7 @@ use super::registration::FaceRegistration;
 use super::registration::find_face::arkit_displacement;
 use crate::arkit::Blendshape;
 use crate::geometry::closest_point::TriangleTree;
-use crate::geometry::inside_surface::{inside, is_open};
+use crate::geometry::inside_surface::{facing_outwards, inside, is_open};
 use crate::geometry::ray_cover::RayCover;
 use crate::personalize::blendshape_fit::in_parallel_map;
 use glam::{DVec3, Vec3};
@@ -376,6 +376,8 @@ impl EyeProbe {
             .filter(|&v| !in_eyeball[v] && (rest[v] - centre).length() < 1.5 * radius)
             .collect();
         let at_rest: Vec<DVec3> = eye.iter().map(|&v| rest[v as usize]).collect();
+        // Its inner side read from its normals: wound inside out, turned.
+        let triangles = facing_outwards(&at_rest, &triangles);
         EyeProbe {
             open: is_open(&triangles),
             tree: TriangleTree::new(&at_rest, &triangles),

@@ -20,7 +20,7 @@ use super::model::{Avatar, AvatarMesh, AvatarPart};
 use super::partial_transfer::{ImplantError, Implanted, implant};
 use super::person_face::{TakeFaceError, TakenFace, skin_change};
 use super::registration::{FaceRegistration, RegistrationError, find_face};
-use super::rest_check::{RestCreases, RestSpike, rest_creases, rest_spike};
+use super::rest_check::{RestCreases, RestSpike, rest_creases, rest_spike, scan_bend};
 use super::retargeting::{NEGLIGIBLE, RetargetError, Retargeting, retarget};
 use super::target_names::ArkitTargets;
 use crate::arkit::{Blendshape, Blendshapes};
@@ -146,6 +146,10 @@ pub enum AvatarWarning {
     /// ([`super::rest_check::rest_creases`]): the avatar kept its own
     /// face.
     RestCreased(RestCreases),
+    /// Taking the person's face would have moved something much further
+    /// than the scan asks of the face ([`super::rest_check::rest_spike`]):
+    /// the avatar kept its own face.
+    RestSpiked(RestSpike),
 }
 
 impl fmt::Display for AvatarWarning {
@@ -171,6 +175,9 @@ impl fmt::Display for AvatarWarning {
             ),
             AvatarWarning::Fault(fault) => fault.fmt(f),
             AvatarWarning::RestCreased(creases) => creases.fmt(f),
+            AvatarWarning::RestSpiked(spike) => {
+                write!(f, "{spike}: the avatar keeps its own face")
+            }
         }
     }
 }
@@ -224,15 +231,6 @@ pub enum AvatarError {
         /// Why.
         #[source]
         source: ImplantError,
-    },
-    /// Taking the person's face moved something much further than the
-    /// scan asks of the face: the avatar would show a spike.
-    #[error("{file}: {spike}")]
-    RestSpike {
-        /// The avatar's file.
-        file: String,
-        /// Where.
-        spike: RestSpike,
     },
     /// The caller's [`Progress`] asked to stop before `step`.
     #[error("cancelled before {}", .0.name())]
@@ -352,22 +350,23 @@ pub fn personal_avatar(
             // A face the skin cannot take without creasing is not taken:
             // the avatar keeps its own, and the person's motion. The skin
             // alone says (what it holds follows it after).
-            match rest_creases(avatar, &registration, &skin.moved) {
+            let bend = scan_bend(avatar, &registration, person.personalized.neutral());
+            match rest_creases(avatar, &registration, &skin.moved, &bend) {
                 Some(creases) => {
                     warnings.push(AvatarWarning::RestCreased(creases));
                     None
                 }
                 None => {
                     let taken = skin.followed(avatar, &registration).map_err(taking)?;
-                    if let Some(spike) =
-                        rest_spike(avatar, &registration, &taken.moved, taken.asked_largest_mm)
-                    {
-                        return Err(AvatarError::RestSpike {
-                            file: file.clone(),
-                            spike,
-                        });
+                    // A face that would move anything far past what the
+                    // scan asks is not taken either.
+                    match rest_spike(avatar, &registration, &taken.moved, taken.asked_largest_mm) {
+                        Some(spike) => {
+                            warnings.push(AvatarWarning::RestSpiked(spike));
+                            None
+                        }
+                        None => Some(taken),
                     }
-                    Some(taken)
                 }
             }
         }

@@ -4,14 +4,18 @@
 //! | what | rule | limit |
 //! |---|---|---|
 //! | the change at rest ([`rest_spike`]) | a vertex moving much further than the scan asks of the face at any point | [`REST_OVERSHOOT`] × the largest change asked |
-//! | creases at rest ([`rest_creases`]) | a head edge whose dihedral angle taking the face changes by more than [`REST_CREASE_ANGLE`] | [`REST_CREASE_SHARE`] of the head's edges |
+//! | creases at rest ([`rest_creases`]) | a head edge whose dihedral angle taking the face changes by more than [`REST_CREASE_ANGLE`], and by more than [`OWN_CREASE_ANGLE`] beyond how the scan itself bends there ([`scan_bend`]) | [`REST_CREASE_SHARE`] of the head's edges |
 //!
-//! Past the creases' limit the face is not taken: the avatar keeps its
-//! own, with a warning. The creases are the skin's alone, so they are
-//! checked first, before what the skin holds follows it
-//! ([`super::person_face::SkinChange`]); a face taken is then checked for
-//! spikes, which make the avatar unusable and are refused
-//! (`AvatarError::RestSpike` of [`super::personal_avatar`]).
+//! Past either limit the face is not taken: the avatar keeps its own,
+//! with a warning (`AvatarWarning::RestCreased`, `RestSpiked` of
+//! [`super::personal_avatar`]), and still carries the person's motion.
+//! The creases are the skin's alone, so they are checked first, before
+//! what the skin holds follows it ([`super::person_face::SkinChange`]);
+//! a face taken is then checked for spikes. A spike was once an error;
+//! but the avatar's own face is always there to keep, and a smooth
+//! overshoot is no broken file (the low-poly avatar's coarse temples,
+//! 12 mm apart, bulged 13.7 mm where a simulated person's face asked 8.7
+//! mm, 1.6 times).
 
 use super::implant_check::{head_edges, head_triangles};
 use super::model::Avatar;
@@ -42,8 +46,16 @@ pub const REST_OVERSHOOT: f64 = 1.5;
 /// simulate them). The rule before, a triangle turned past 45°,
 /// counted 950–1,260 for them, mostly where the person's deep-set eyes
 /// reshape the sockets smoothly: a turned triangle cannot tell a new
-/// shape from a crease.
+/// shape from a crease. An edge the scan itself bends as much (less
+/// [`OWN_CREASE_ANGLE`]) is the person's, not a crease: the rule the
+/// shapes' crease smoothing uses
+/// ([`super::partial_transfer::crease_smoothing`]).
 pub const REST_CREASE_ANGLE: f64 = std::f64::consts::FRAC_PI_4;
+
+/// How much more than the scan bends the mask there an edge must turn to
+/// be creased (radians, 22.5°), as the shapes' crease smoothing allows
+/// ([`super::partial_transfer::crease_smoothing::OWN_CREASE_ANGLE`]).
+pub use super::partial_transfer::crease_smoothing::OWN_CREASE_ANGLE;
 
 /// Most creased edges at rest, as a share of the head's edges: a quarter
 /// of the share of triangles one shape may fold
@@ -100,26 +112,70 @@ impl fmt::Display for RestCreases {
     }
 }
 
+/// For each avatar vertex, how much the scanned neutral (`neutral`, on the
+/// mask, ARKit's face coordinates) bends the registered mask at the mask
+/// triangle the map takes the vertex to: the largest change of a dihedral
+/// angle at that triangle's edges (radians; 0 off the face). Where the
+/// person's face bends unlike the avatar's (a nostril's rim, the lips'
+/// edge), the new rest bends there too.
+pub fn scan_bend(avatar: &Avatar, found: &FaceRegistration, neutral: &[DVec3]) -> Vec<f64> {
+    let on_avatar = &found.mask_on_avatar;
+    let change: Vec<DVec3> = on_avatar
+        .iter()
+        .enumerate()
+        .map(|(i, m)| {
+            neutral
+                .get(i)
+                .map_or(DVec3::ZERO, |p| found.similarity.apply(*p) - *m)
+        })
+        .collect();
+    let hinges = Hinges::new(on_avatar, &found.map.mask_triangles);
+    let at_triangle = hinges.largest_at_triangles(&hinges.changes(on_avatar, &change));
+    let mut bend = vec![0.0; avatar.vertex_count()];
+    for f in &found.map.face {
+        if let (Some(b), Some(t)) = (
+            bend.get_mut(f.vertex as usize),
+            at_triangle.get(f.triangle as usize),
+        ) {
+            *b = *t;
+        }
+    }
+    bend
+}
+
 /// The head edges of `avatar` (found by `found`, before its face was
 /// taken) whose dihedral angle the rest change `moved` (one per vertex,
-/// avatar units) changes by more than [`REST_CREASE_ANGLE`], if more than
+/// avatar units) changes by more than [`REST_CREASE_ANGLE`] and by more
+/// than [`OWN_CREASE_ANGLE`] beyond the scan's own bend at any corner of
+/// its two triangles (`bend`, [`scan_bend`]), if more than
 /// [`REST_CREASE_SHARE`] of them. An edge counts where exactly two head
 /// triangles share it.
 pub fn rest_creases(
     avatar: &Avatar,
     found: &FaceRegistration,
     moved: &[DVec3],
+    bend: &[f64],
 ) -> Option<RestCreases> {
     let triangles = head_triangles(avatar, found);
     let rest: Vec<DVec3> = avatar.positions().iter().map(|p| p.as_dvec3()).collect();
     let hinges = Hinges::new(&rest, &triangles);
     let changes = hinges.changes(&rest, moved);
+    let scan_bends = |k: usize| {
+        hinges.pairs()[k]
+            .iter()
+            .flat_map(|&t| hinges.triangles()[t])
+            .map(|v| bend.get(v as usize).copied().unwrap_or(0.0))
+            .fold(0.0, f64::max)
+    };
     let mut creased: Vec<(f64, (u32, u32))> = hinges
         .edges()
         .iter()
         .zip(&changes)
-        .filter(|(_, change)| **change > REST_CREASE_ANGLE)
-        .map(|(edge, change)| (*change, *edge))
+        .enumerate()
+        .filter(|(k, (_, change))| {
+            **change > REST_CREASE_ANGLE && **change > scan_bends(*k) + OWN_CREASE_ANGLE
+        })
+        .map(|(_, (edge, change))| (*change, *edge))
         .collect();
     let limit = (REST_CREASE_SHARE * head_edges(avatar, found).len() as f64).floor() as usize;
     // The most changed, the first of equals.

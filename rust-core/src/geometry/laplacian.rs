@@ -13,6 +13,19 @@
 //!   *Polygon Mesh Processing* §3.3). It is the matrix of
 //!   `Σ_t A_t ‖∇u_t‖²`, the energy of deformation transfer (Eq. 2 of
 //!   Botsch et al. 2006) and of the face step ([`cotangent_lower`]).
+//! - **Laplace–Beltrami rows** (area-normalized cotangent): for vertex
+//!   `v` with Voronoi-like area `A_v` (a third of its triangles' areas),
+//!
+//!   ```text
+//!   (Δu)_v = (1 / A_v) Σ_{w ~ v} ½ (cot α_vw + cot β_vw) (u_w − u_v),
+//!   ```
+//!
+//!   and rows `a_v = √A_v (Δu)_v`, so that `Σ_v (a_v · u)² = Σ_v A_v
+//!   ‖(Δu)_v‖²`, the discrete thin-plate (bending) energy of a displacement
+//!   (Botsch & Sorkine 2008, *On linear variational surface deformation
+//!   methods*, §3): unlike the uniform rows, it knows how long an edge is,
+//!   so a change across a narrow row of triangles (a lid's margin) costs
+//!   as much as it turns them ([`laplace_beltrami_rows`]).
 //! - **Uniform** (graph): `(L u)_v = deg(v) u_v − Σ_{w ~ v} u_w`, each
 //!   vertex against its one-ring ([`uniform_row`]); the avatar stage's
 //!   bi-Laplacian solves minimize `Σ_r ‖(L u)_r‖²`, whose matrix
@@ -23,7 +36,7 @@
 
 use faer::sparse::Triplet;
 use glam::DVec3;
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 
 /// The lower triangle of the cotangent Laplacian `L_ki = Σ_t A_t ∇φ_k ·
 /// ∇φ_i` (module docs) over `triangles`, with `gradients[t]` the three
@@ -49,6 +62,51 @@ pub fn cotangent_lower(
         }
     }
     entries
+}
+
+/// Largest cotangent weight of an angle: at 20 (an angle of 2.9°) a
+/// sliver's weight stops growing, so one needle triangle cannot stiffen
+/// its edge past its neighbours' by orders of magnitude. Negative
+/// cotangents (angles past 90°) count as zero, which keeps every weight
+/// of a row non-negative, as the uniform rows' are.
+pub const MAX_COTANGENT: f64 = 20.0;
+
+/// The Laplace–Beltrami rows `a_v = √A_v (Δu)_v` (module docs) of every
+/// vertex of `triangles` over `positions`, as `(column, value)` pairs by
+/// vertex, each cotangent within `[0, MAX_COTANGENT]`.
+pub fn laplace_beltrami_rows(
+    positions: &[DVec3],
+    triangles: &[[u32; 3]],
+) -> BTreeMap<u32, Vec<(u32, f64)>> {
+    let mut weights: BTreeMap<(u32, u32), f64> = BTreeMap::new();
+    let mut areas: BTreeMap<u32, f64> = BTreeMap::new();
+    for t in triangles {
+        let p = t.map(|v| positions[v as usize]);
+        let doubled = (p[1] - p[0]).cross(p[2] - p[0]).length();
+        for k in 0..3 {
+            *areas.entry(t[k]).or_default() += doubled / 6.0;
+            // The angle at corner k faces the edge of the other two.
+            let (a, b) = (p[(k + 1) % 3] - p[k], p[(k + 2) % 3] - p[k]);
+            let cot = a.dot(b) / a.cross(b).length().max(f64::MIN_POSITIVE);
+            let (i, j) = (t[(k + 1) % 3], t[(k + 2) % 3]);
+            *weights.entry((i.min(j), i.max(j))).or_default() +=
+                0.5 * cot.clamp(0.0, MAX_COTANGENT);
+        }
+    }
+    let mut rows: BTreeMap<u32, Vec<(u32, f64)>> = BTreeMap::new();
+    for (&(i, j), &w) in &weights {
+        rows.entry(i).or_default().push((j, -w));
+        rows.entry(j).or_default().push((i, -w));
+    }
+    for (v, row) in rows.iter_mut() {
+        let diagonal: f64 = row.iter().map(|(_, w)| -w).sum();
+        row.push((*v, diagonal));
+        let scale = 1.0 / areas[v].max(f64::MIN_POSITIVE).sqrt();
+        for (_, w) in row.iter_mut() {
+            *w *= scale;
+        }
+    }
+    rows
 }
 
 /// Row `v` of the uniform Laplacian (module docs) with one-ring `ring`:
@@ -130,6 +188,38 @@ mod tests {
             (v != 3).then_some(v as usize)
         });
         assert!(fixed.iter().all(|e| e.row != 3 && e.col != 3));
+    }
+
+    #[test]
+    fn laplace_beltrami_rows_are_the_cotangent_weights_over_the_root_of_the_area() {
+        // A unit right triangle and its mirror over the hypotenuse: the
+        // hypotenuse 1–2 faces two right angles (cot 0), each leg one 45°
+        // angle (cot 1); every vertex's area is a third of what touches it.
+        let x = [DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::new(1.0, 1.0, 0.0)];
+        let rows = laplace_beltrami_rows(&x, &[[0, 1, 2], [3, 2, 1]]);
+        let at = |v: u32, w: u32| -> f64 {
+            rows[&v]
+                .iter()
+                .filter(|(c, _)| *c == w)
+                .map(|(_, x)| x)
+                .sum()
+        };
+        let root_area = (0.5f64 / 3.0).sqrt();
+        assert!((at(0, 1) + 0.5 / root_area).abs() < 1e-12);
+        assert!((at(0, 0) - 1.0 / root_area).abs() < 1e-12);
+        assert!(at(1, 2).abs() < 1e-12);
+        // Constants are in the kernel: every row sums to zero.
+        for (v, row) in &rows {
+            assert!(row.iter().map(|(_, x)| x).sum::<f64>().abs() < 1e-12, "{v}");
+        }
+        // A sliver: the edge facing its obtuse apex weighs nothing, the
+        // edges facing its needle angles are capped.
+        let sliver = [DVec3::ZERO, DVec3::X, DVec3::new(0.5, 1e-6, 0.0)];
+        let rows = laplace_beltrami_rows(&sliver, &[[0, 1, 2]]);
+        let weight = |v: u32, w: u32| -rows[&v].iter().find(|(c, _)| *c == w).map_or(0.0, |e| e.1);
+        let root_area = (1e-6f64 / 2.0 / 3.0).sqrt();
+        assert!(weight(0, 1).abs() < 1e-12);
+        assert!((weight(1, 2) * root_area - 0.5 * MAX_COTANGENT).abs() < 1e-9);
     }
 
     #[test]

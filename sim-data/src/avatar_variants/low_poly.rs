@@ -29,7 +29,9 @@ pub const EYE_RINGS: usize = 10;
 pub const EYE_SEGMENTS: usize = 16;
 
 /// A UV sphere about `centre`: the front pole (+z), `rings − 1` rings of
-/// `segments` vertices, the back pole; outward-facing triangles.
+/// `segments` vertices, the back pole; its triangles face inwards (wound
+/// clockwise seen from outside, as some exporters leave them), which the
+/// product must see through.
 pub fn uv_sphere(
     centre: DVec3,
     radius: f64,

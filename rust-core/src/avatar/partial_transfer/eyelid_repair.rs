@@ -22,7 +22,7 @@
 //! however it rests.
 
 use crate::geometry::closest_point::TriangleTree;
-use crate::geometry::inside_surface::{depth, inside, is_open};
+use crate::geometry::inside_surface::{depth, facing_outwards, inside, is_open};
 use glam::DVec3;
 
 /// How far outside the eyeball a repaired lid vertex is put (mm at the
@@ -86,6 +86,8 @@ impl Eyeball {
             .map(|t| t.map(|v| vertices.binary_search(&v).unwrap_or(0) as u32))
             .collect();
         let at_rest: Vec<DVec3> = vertices.iter().map(|&v| rest[v as usize]).collect();
+        // Its inner side is read from its normals: wound inside out, turned.
+        let local = facing_outwards(&at_rest, &local);
         let tree = TriangleTree::new(&at_rest, &local);
         Eyeball {
             open: is_open(&local),

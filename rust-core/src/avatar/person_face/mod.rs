@@ -9,17 +9,19 @@
 //! mask lies on the avatar's skin, `p_i = Σ_k β_ik x_{v_ik}`
 //! ([`crate::avatar::own_shapes::skin_points`]), and the scanned neutral
 //! says where it should be, `q_i = σ(B₀_i)`, with `σ` the registration's
-//! similarity (mask → avatar). The skin's change `u` passes through the
-//! wanted changes `d_i = q_i − p_i` at those points, is as smooth as can
-//! be between them (bi-Laplacian, like step 2's correction) and fades to
-//! zero within [`REACH_MM`] of the face along the skin ([`mod@rest_field`]).
-//! The lid margins and the inner lips, which the map `M` leaves out, are
-//! held by the mask's rims like every other point. A mask vertex off the
-//! skin (farther than the registration's face tolerance), or lying folded
-//! on it so that its change contradicts its neighbours'
-//! ([`mod@consistent_points`]), asks nothing. Skin that touches
-//! itself at rest (the lips along the mouth's line) stays together where
-//! the person's lips stay together, and never passes through itself
+//! similarity (mask → avatar). The skin's change `u` is first drawn
+//! through the wanted changes `d_i = q_i − p_i` at those points, held
+//! softly, as smooth as can be between them (the thin-plate energy of the
+//! change, bi-Laplacian like step 2's correction) and fading to zero
+//! within [`REACH_MM`] of the face along the skin ([`mod@rest_field`]);
+//! then laid on the scanned surface by rounds of closest points, which ask
+//! how far the skin is off the face but not where along it a point should
+//! go ([`surface_fit`]). A mask vertex off the skin (farther than the
+//! registration's face tolerance), or lying folded on it so that its
+//! change contradicts its neighbours' ([`mod@consistent_points`]), asks
+//! nothing of the first change. Skin that touches itself at rest (the
+//! lips along the mouth's line) stays together where the person's lips
+//! stay together, and never passes through itself
 //! ([`rest_field::keep_touching`]).
 //!
 //! **What the skin holds** ([`followers`]): the eyeballs take the
@@ -32,12 +34,14 @@
 //! | what | file |
 //! |---|---|
 //! | only the wanted changes the skin can take: none from a mask lying folded on it | [`mod@consistent_points`] |
-//! | the skin through the scanned neutral at the mask's points, the head following (bi-Laplacian, zero beyond the reach) | [`mod@rest_field`] |
+//! | the skin through the wanted changes at points of it, the head following (thin-plate energy of the change, zero beyond the reach) | [`mod@rest_field`] |
+//! | the skin laid on the scanned surface by rounds of closest points (non-rigid ICP, Amberg et al. 2007) | [`surface_fit`] |
 //! | eyeballs into the person's eye openings, rigid pieces with the skin around them, the rest with the skin nearest | [`followers`] |
 
 pub mod consistent_points;
 pub mod followers;
 pub mod rest_field;
+pub mod surface_fit;
 
 use super::model::Avatar;
 use super::own_shapes::{face_part_triangles, skin_points};
@@ -45,13 +49,18 @@ use super::partial_transfer::adjacent_step::within;
 use super::partial_transfer::stay_put::STILL_MM;
 use super::registration::FaceRegistration;
 use super::registration::find_face::FACE_TOLERANCE_MM;
+use crate::avatar::partial_transfer::lid_contacts::mask_eye_holes;
 use crate::geometry::closest_point::TriangleTree;
+use crate::geometry::laplacian::laplace_beltrami_rows;
+use crate::geometry::mesh_boundary::boundary_edges;
 use crate::geometry::one_ring::one_rings;
 use consistent_points::{AskedChange, across_the_slit, consistent_points};
 use followers::{EyeFollowed, follow_skin};
 use glam::DVec3;
 use rest_field::{PointChange, TOUCH_MM, keep_touching, rest_field, touching_pairs};
+use std::collections::BTreeSet;
 use std::time::Instant;
+use surface_fit::{START_WEIGHT, Scan, Skin, fit_to_scan};
 
 /// How far from the face region, along the skin, the change of the rest
 /// fades out (mm at the mask's scale). A face that is 5 mm wider than the
@@ -266,8 +275,39 @@ pub fn skin_change(
         .fold(0.0, f64::max)
         / to_avatar;
     let ties = touching_pairs(&positions, &triangles, TOUCH_MM * to_avatar);
-    let mut field =
-        rest_field(n, &rings, &region, &wanted_changes, &ties).ok_or(TakeFaceError::Unsolved)?;
+    let rows = laplace_beltrami_rows(&positions, &triangles);
+    let start = rest_field(n, &rows, &region, &wanted_changes, &ties, START_WEIGHT)
+        .ok_or(TakeFaceError::Unsolved)?;
+    // Then on the scanned surface by closest points: the mouth's rim and
+    // the outline pull the skin, the eye holes do not (surface_fit).
+    let eye_rims: BTreeSet<u32> = mask_eye_holes(&registration.map.mask_triangles, neutral)
+        .iter()
+        .flat_map(|h| h.upper.iter().chain(&h.lower).copied())
+        .collect();
+    let pulling: Vec<u32> = boundary_edges(&registration.map.mask_triangles)
+        .iter()
+        .flat_map(|&(a, b)| [a, b])
+        .collect::<BTreeSet<u32>>()
+        .into_iter()
+        .filter(|i| points[*i as usize].is_some() && !eye_rims.contains(i))
+        .collect();
+    let skin = Skin {
+        positions: &positions,
+        triangles: &triangles,
+        rows: &rows,
+        region: &region,
+        face: &face,
+        ties: &ties,
+    };
+    let scan = Scan {
+        positions: &wanted,
+        registered: &registration.mask_on_avatar,
+        triangles: &registration.map.mask_triangles,
+        pulling: &pulling,
+    };
+    let (mut field, fit_asked) =
+        fit_to_scan(&skin, &scan, start, to_avatar).ok_or(TakeFaceError::Unsolved)?;
+    let asked_largest_mm = asked_largest_mm.max(fit_asked / to_avatar);
     // Lips the person keeps closed stay exactly closed, and never pass
     // through each other: a slide below what a capture can tell is no
     // parting.

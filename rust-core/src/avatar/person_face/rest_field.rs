@@ -1,47 +1,48 @@
 //! The change of the skin's rest that takes the person's face: smooth
-//! everywhere, through the wanted changes at the mask's points, zero far
+//! everywhere, through the wanted changes at points of the skin, zero far
 //! from the face.
 //!
-//! With `R` the skin within [`super::REACH_MM`] of the face region, `L` the
-//! uniform graph Laplacian of the skin (`(L u)_v = deg(v) u_v − Σ_{w ~ v}
-//! u_w`, as step 2's, [`crate::avatar::partial_transfer::adjacent_step`]),
-//! and for each mask vertex `i` its point on the skin `Σ_k β_ik x_{v_ik}`
-//! and wanted change `d_i`, the change `u` (zero beyond `R`) minimizes
+//! With `R` the skin within [`super::REACH_MM`] of the face region, `a_v`
+//! the skin's Laplace–Beltrami rows (`a_v · u = √A_v (Δu)_v`, the
+//! area-normalized cotangent Laplacian,
+//! [`crate::geometry::laplacian::laplace_beltrami_rows`]), and for each
+//! point `i` its place on the skin `Σ_k β_ik x_{v_ik}` and wanted change
+//! `d_i`, the change `u` (zero beyond `R`) minimizes
 //!
 //! ```text
-//! Σ_r ‖(L u)_r‖² + w Σ_i ‖Σ_k β_ik u_{v_ik} − d_i‖²,
+//! Σ_r (a_r · u)² + w Σ_i ‖Σ_k β_ik u_{v_ik} − d_i‖²,
 //! (L_Rᵀ L_R + w Bᵀ B) u_R = w Bᵀ d,
 //! ```
 //!
 //! over the rows `r` of `R` and of the skin next to it (so `u` leaves
-//! zero with zero slope), `B` the points' barycentric rows, and `w`
-//! [`POINT_WEIGHT`] times the mean diagonal of `L_Rᵀ L_R`. Skin that
-//! touches itself at rest without sharing a triangle (the lips along the
-//! mouth's line, the lids at the corners of the eyes: vertices within
-//! [`TOUCH_MM`], [`touching_pairs`]) is held together, `‖u_a − u_b‖²`
-//! with [`TIE_WEIGHT`] times that mean diagonal: moved apart by the
-//! person's face, the two copies of a lip's corner crossed each other. Between the
-//! points `u` is bi-Laplacian, smooth across the mask's edges (the map's
+//! zero with zero slope), `B` the points' barycentric rows, and `w` the
+//! caller's point weight times the mean diagonal of `L_Rᵀ L_R`. The first
+//! sum is the thin-plate energy of the change (Botsch & Sorkine 2008): it
+//! measures bending per area, so a change that turns a narrow row of
+//! triangles (a lid's margin, a nostril's rim) costs what it turns them
+//! by. The uniform graph Laplacian used before counted every edge alike,
+//! and where the avatar's triangles are small it let the change turn them
+//! sharply: five people on ARKit's mesh creased 106–128 of the default
+//! avatar's edges with it, 7–8 with this (the closest-point rounds of
+//! [`super::surface_fit`] alike). Skin that touches itself at rest
+//! without sharing a triangle (the lips along the mouth's line, the lids
+//! at the corners of the eyes: vertices within [`TOUCH_MM`],
+//! [`touching_pairs`]) is held together, `‖u_a − u_b‖²` with
+//! [`TIE_WEIGHT`] times that mean diagonal: moved apart by the person's
+//! face, the two copies of a lip's corner crossed each other. Between the
+//! points `u` is smooth across the mask's edges (the map's
 //! piecewise-linear interpolation of `d` would crease the skin along every
-//! one of them), and the lid margins and inner lips, which the map leaves
-//! out, are held by the mask's rims like every other point.
+//! one of them).
 
 use crate::geometry::connected_components::component_vertices;
-use crate::geometry::laplacian::{normal_lower, uniform_row};
+use crate::geometry::laplacian::normal_lower;
 use crate::geometry::self_intersection::intersecting_pairs;
 use crate::geometry::sparse_cholesky;
 use faer::Mat;
 use faer::linalg::solvers::Solve;
 use faer::sparse::Triplet;
 use glam::DVec3;
-use std::collections::{BTreeSet, HashMap};
-
-/// How strongly the points hold, against one Laplacian row squared (mean
-/// diagonal of `L_Rᵀ L_R`). At 10³ a point keeps within about a
-/// thousandth of what bending would pull it by: on the committed
-/// subjects, and on ten fresh seeds, the skin passes within 0.05 mm of
-/// every point where their faces differ from the stock one by up to 13 mm.
-pub const POINT_WEIGHT: f64 = 1e3;
+use std::collections::{BTreeMap, BTreeSet, HashMap};
 
 /// Skin vertices closer than this at rest (mm at the mask's scale) that
 /// share no triangle touch ([`touching_pairs`]): the default avatar's
@@ -98,7 +99,7 @@ pub fn touching_pairs(positions: &[DVec3], triangles: &[[u32; 3]], reach: f64) -
 /// How strongly touching vertices are held together, against one
 /// Laplacian row squared: enough to keep the lips' two copies of a mouth
 /// corner from crossing (untied, one committed subject's did), weak enough that lips the
-/// person's neutral holds parted stay parted (at [`POINT_WEIGHT`] the ties
+/// person's neutral holds parted stay parted (at 10³, as strong as the points once were, the ties
 /// pulled them shut, 0.65 mm from the scan, crossing at the corners).
 pub const TIE_WEIGHT: f64 = 10.0;
 
@@ -106,32 +107,40 @@ pub const TIE_WEIGHT: f64 = 10.0;
 /// (avatar vertices), barycentrics, and the change.
 pub type PointChange = ([u32; 3], [f64; 3], DVec3);
 
+/// The skin's Laplace–Beltrami rows by vertex (avatar indices; module
+/// docs), as [`crate::geometry::laplacian::laplace_beltrami_rows`] gives
+/// them for the face parts' triangles at rest.
+pub type SkinRows = BTreeMap<u32, Vec<(u32, f64)>>;
+
 /// The change `u` of every avatar vertex (`n` of them; module docs) on the
-/// skin whose one-rings are `neighbours` (avatar indices,
-/// [`crate::geometry::one_ring::one_rings`] of its triangles), `region`
-/// saying which vertices are in `R`, `ties` the pairs that move as one;
-/// `None` if the system cannot be solved.
+/// skin whose Laplace–Beltrami rows are `skin`, `region` saying which
+/// vertices are in `R`, `points` held at `point_weight` (against one row
+/// squared), `ties` the pairs that move as one; `None` if the system
+/// cannot be solved.
 pub fn rest_field(
     n: usize,
-    neighbours: &HashMap<u32, BTreeSet<u32>>,
+    skin: &SkinRows,
     region: &[bool],
     points: &[PointChange],
     ties: &[(u32, u32)],
+    point_weight: f64,
 ) -> Option<Vec<DVec3>> {
     let inside: Vec<u32> = (0..n as u32)
-        .filter(|&v| region.get(v as usize) == Some(&true) && neighbours.contains_key(&v))
+        .filter(|&v| region.get(v as usize) == Some(&true) && skin.contains_key(&v))
         .collect();
     let local: HashMap<u32, usize> = inside.iter().enumerate().map(|(i, v)| (*v, i)).collect();
     let mut rows: BTreeSet<u32> = inside.iter().copied().collect();
     for v in &inside {
-        rows.extend(neighbours[v].iter().copied());
+        rows.extend(skin[v].iter().map(|(w, _)| *w));
     }
     let m = inside.len();
     let laplacian_rows: Vec<Vec<(usize, f64)>> = rows
         .iter()
         .map(|&r| {
-            uniform_row(r, &neighbours[&r])
-                .filter_map(|(v, x)| Some((*local.get(&v)?, x)))
+            skin.get(&r)
+                .into_iter()
+                .flatten()
+                .filter_map(|(v, x)| Some((*local.get(v)?, *x)))
                 .collect()
         })
         .collect();
@@ -141,7 +150,7 @@ pub fn rest_field(
         .filter(|e| e.row == e.col)
         .map(|e| e.val)
         .sum();
-    let w = POINT_WEIGHT * diagonal / m.max(1) as f64;
+    let w = point_weight * diagonal / m.max(1) as f64;
     let mut rhs = Mat::<f64>::zeros(m, 3);
     for (corners, beta, d) in points {
         let row: Vec<(usize, f64)> = corners

@@ -10,10 +10,10 @@
 //! | beyond §3.3 | the avatar's own shapes seen through the registration, `S_j` (the round trip) | [`own_shapes`] |
 //! | §3.3, Eq. (4) | automatic retargeting `A_j`, the 52 × k weight map | [`retargeting`] |
 //! | §3.3, Fig. 3 | seamless partial deformation transfer: the person's shapes implanted | [`partial_transfer`] |
-//! | beyond §3.3 | the person's own face at rest: the scanned neutral through `M`, the head, eyes and teeth following | [`person_face`] |
+//! | beyond §3.3 | the person's own face at rest: the skin laid on the scanned neutral, the head, eyes and teeth following | [`person_face`] |
 //! | §3.3 end to end | the person's avatar as GLB bytes, steps skipped said, progress and cancel | [`personal_avatar`] |
 //! | (beyond the paper) the product checks its output | torn edges, folds, the blink, lids in eyes, Eq. (4)'s residual | [`implant_check`] |
-//! | (beyond the paper) the face at rest checked | spikes refused, creases leave the avatar's own face | [`rest_check`] |
+//! | (beyond the paper) the face at rest checked | spikes and creases leave the avatar's own face | [`rest_check`] |
 //! | §4.2, Fig. 7 and 8 | manual, automatic and personalized animation against the person's expression on the face region | [`likeness_check`] |
 //! | | what was made, in a few sentences for the app | [`avatar_summary`] |
 //! | Eq. (1) on the avatar | the avatar posed by ARKit weights (the app's live preview) | [`avatar_pose`] |

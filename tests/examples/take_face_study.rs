@@ -21,44 +21,34 @@ use likeness::avatar::glb::read_avatar_bytes;
 use likeness::avatar::implant_check::head_triangles;
 use likeness::avatar::person_face::{TakenFace, take_face};
 use likeness::avatar::registration::{FaceRegistration, find_face};
-use likeness::avatar::rest_check::{OWN_CREASE_ANGLE, REST_CREASE_ANGLE, scan_bend};
-use likeness::geometry::dihedral_angle::Hinges;
+use likeness::avatar::rest_check::{creased_edges, scan_bend};
 use likeness_sim::arkit_face::shared_arkit_face;
 use likeness_sim::face_basis::FaceBasis;
 use likeness_tests::arkit_people::{ArkitPerson, study_seeds};
 
-/// The head edges the new rest creases, and those among them creased by
-/// more than the scan bends the mask there plus 22.5°.
+/// How many head edges the new rest turns past
+/// `rest_check::REST_CREASE_ANGLE` (the scan's bend aside), how many of
+/// them also past the scan's own bend there (the check's rule), and the
+/// first count's edges.
 fn creases(
     avatar: &Avatar,
     found: &FaceRegistration,
     taken: &TakenFace,
     bend: &[f64],
 ) -> (usize, usize, Vec<(u32, u32)>) {
-    let rest: Vec<DVec3> = avatar.positions().iter().map(|p| p.as_dvec3()).collect();
-    let hinges = Hinges::new(&rest, &head_triangles(avatar, found));
-    let changes = hinges.changes(&rest, &taken.moved);
-    let creased: Vec<usize> = (0..changes.len())
-        .filter(|&k| changes[k] > REST_CREASE_ANGLE)
-        .collect();
-    let beyond = creased
-        .iter()
-        .filter(|&&k| {
-            let allowed = hinges.pairs()[k]
-                .iter()
-                .flat_map(|&t| hinges.triangles()[t])
-                .map(|v| bend[v as usize])
-                .fold(0.0, f64::max);
-            changes[k] > allowed + OWN_CREASE_ANGLE
-        })
-        .count();
-    let edges = creased.iter().map(|&k| hinges.edges()[k]).collect();
+    let flat = vec![0.0; avatar.vertex_count()];
+    let creased = creased_edges(avatar, found, &taken.moved, &flat);
+    let beyond = creased_edges(avatar, found, &taken.moved, bend).len();
+    let edges = creased.iter().map(|(_, e)| *e).collect();
     (creased.len(), beyond, edges)
 }
 
-/// Writes the taken head (`head.obj`) and the stock one (`stock.obj`), its creased edges (`creases.txt`,
-/// one vertex pair a line) and the scanned places of the points left out
-/// (`left_out.txt`, avatar frame) the scan (`scan.obj`) and the mask as registered (`registered.obj`) and each scanned point's distance to the new head (`scan_to_skin.txt`, mm, and whether it is on the skin) into `dir`, to look at.
+/// Writes into `dir`, to look at: the taken head (`head.obj`) and the
+/// stock one (`stock.obj`), its creased edges (`creases.txt`, one vertex
+/// pair a line), the scanned places of the points left out
+/// (`left_out.txt`, avatar frame), the scan (`scan.obj`), the mask as
+/// registered (`registered.obj`), and each scanned point's distance from
+/// the new head and whether it is on the skin (`scan_to_skin.txt`, mm).
 fn dump(
     dir: &std::path::Path,
     avatar: &Avatar,

@@ -147,15 +147,16 @@ pub fn scan_bend(avatar: &Avatar, found: &FaceRegistration, neutral: &[DVec3]) -
 /// taken) whose dihedral angle the rest change `moved` (one per vertex,
 /// avatar units) changes by more than [`REST_CREASE_ANGLE`] and by more
 /// than [`OWN_CREASE_ANGLE`] beyond the scan's own bend at any corner of
-/// its two triangles (`bend`, [`scan_bend`]), if more than
-/// [`REST_CREASE_SHARE`] of them. An edge counts where exactly two head
-/// triangles share it.
-pub fn rest_creases(
+/// its two triangles (`bend`, [`scan_bend`]; all zero, the first rule
+/// alone), each with its change (radians): the most changed first, the
+/// first of equals first. An edge counts where exactly two head triangles
+/// share it.
+pub fn creased_edges(
     avatar: &Avatar,
     found: &FaceRegistration,
     moved: &[DVec3],
     bend: &[f64],
-) -> Option<RestCreases> {
+) -> Vec<(f64, (u32, u32))> {
     let triangles = head_triangles(avatar, found);
     let rest: Vec<DVec3> = avatar.positions().iter().map(|p| p.as_dvec3()).collect();
     let hinges = Hinges::new(&rest, &triangles);
@@ -177,9 +178,20 @@ pub fn rest_creases(
         })
         .map(|(_, (edge, change))| (*change, *edge))
         .collect();
-    let limit = (REST_CREASE_SHARE * head_edges(avatar, found).len() as f64).floor() as usize;
-    // The most changed, the first of equals.
     creased.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+    creased
+}
+
+/// The edges taking the face creases ([`creased_edges`]), if more than
+/// [`REST_CREASE_SHARE`] of the head's.
+pub fn rest_creases(
+    avatar: &Avatar,
+    found: &FaceRegistration,
+    moved: &[DVec3],
+    bend: &[f64],
+) -> Option<RestCreases> {
+    let creased = creased_edges(avatar, found, moved, bend);
+    let limit = (REST_CREASE_SHARE * head_edges(avatar, found).len() as f64).floor() as usize;
     let worst = creased.first()?;
     (creased.len() > limit).then_some(RestCreases {
         edges: creased.len(),

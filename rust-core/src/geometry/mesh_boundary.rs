@@ -47,6 +47,24 @@ pub enum BoundaryError {
     },
 }
 
+/// Whether barycentric point `b` of triangle `t` lies on a vertex or an
+/// edge of a mesh's `boundary` (edges as `(min, max)`, [`boundary_edges`],
+/// and their `vertices`): a closest point on an edge or a corner has an
+/// exact zero coordinate, so only rounding (10⁻⁹) is allowed for.
+pub fn on_boundary(
+    t: [u32; 3],
+    b: [f64; 3],
+    boundary: &HashSet<(u32, u32)>,
+    vertices: &HashSet<u32>,
+) -> bool {
+    const ON: f64 = 1e-9;
+    (0..3).any(|k| {
+        let (i, j) = (t[(k + 1) % 3], t[(k + 2) % 3]);
+        (b[k] >= 1.0 - ON && vertices.contains(&t[k]))
+            || (b[k] <= ON && boundary.contains(&(i.min(j), i.max(j))))
+    })
+}
+
 /// The edges used by exactly one triangle, `(min, max)`.
 pub fn boundary_edges(triangles: &[[u32; 3]]) -> HashSet<(u32, u32)> {
     let mut count: HashMap<(u32, u32), usize> = HashMap::new();

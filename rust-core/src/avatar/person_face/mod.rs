@@ -57,7 +57,7 @@ use crate::geometry::one_ring::one_rings;
 use consistent_points::{AskedChange, across_the_slit, consistent_points};
 use followers::{EyeFollowed, follow_skin};
 use glam::DVec3;
-use rest_field::{PointChange, TOUCH_MM, keep_touching, rest_field, touching_pairs};
+use rest_field::{PointChange, RestSystem, TOUCH_MM, keep_touching, touching_pairs};
 use std::collections::BTreeSet;
 use std::time::Instant;
 use surface_fit::{START_WEIGHT, Scan, Skin, fit_to_scan};
@@ -276,7 +276,9 @@ pub fn skin_change(
         / to_avatar;
     let ties = touching_pairs(&positions, &triangles, TOUCH_MM * to_avatar);
     let rows = laplace_beltrami_rows(&positions, &triangles);
-    let start = rest_field(n, &rows, &region, &wanted_changes, &ties, START_WEIGHT)
+    let system = RestSystem::new(n, &rows, &region, &ties);
+    let start = system
+        .rest_field(&wanted_changes, START_WEIGHT)
         .ok_or(TakeFaceError::Unsolved)?;
     // Then on the scanned surface by closest points: the mouth's rim and
     // the outline pull the skin, the eye holes do not (surface_fit).
@@ -294,10 +296,8 @@ pub fn skin_change(
     let skin = Skin {
         positions: &positions,
         triangles: &triangles,
-        rows: &rows,
-        region: &region,
+        system: &system,
         face: &face,
-        ties: &ties,
     };
     let scan = Scan {
         positions: &wanted,

@@ -112,79 +112,108 @@ pub type PointChange = ([u32; 3], [f64; 3], DVec3);
 /// them for the face parts' triangles at rest.
 pub type SkinRows = BTreeMap<u32, Vec<(u32, f64)>>;
 
-/// The change `u` of every avatar vertex (`n` of them; module docs) on the
-/// skin whose Laplace–Beltrami rows are `skin`, `region` saying which
-/// vertices are in `R`, `points` held at `point_weight` (against one row
-/// squared), `ties` the pairs that move as one; `None` if the system
-/// cannot be solved.
-pub fn rest_field(
+/// The bending energy over `R` and the ties (module docs), assembled once
+/// for every solve a take makes: only the points change from one solve to
+/// the next ([`RestSystem::rest_field`]).
+pub struct RestSystem {
+    /// Avatar vertices.
     n: usize,
-    skin: &SkinRows,
-    region: &[bool],
-    points: &[PointChange],
-    ties: &[(u32, u32)],
-    point_weight: f64,
-) -> Option<Vec<DVec3>> {
-    let inside: Vec<u32> = (0..n as u32)
-        .filter(|&v| region.get(v as usize) == Some(&true) && skin.contains_key(&v))
-        .collect();
-    let local: HashMap<u32, usize> = inside.iter().enumerate().map(|(i, v)| (*v, i)).collect();
-    let mut rows: BTreeSet<u32> = inside.iter().copied().collect();
-    for v in &inside {
-        rows.extend(skin[v].iter().map(|(w, _)| *w));
-    }
-    let m = inside.len();
-    let laplacian_rows: Vec<Vec<(usize, f64)>> = rows
-        .iter()
-        .map(|&r| {
-            skin.get(&r)
-                .into_iter()
-                .flatten()
-                .filter_map(|(v, x)| Some((*local.get(v)?, *x)))
-                .collect()
-        })
-        .collect();
-    let mut entries = normal_lower(laplacian_rows.iter().map(|r| r.as_slice()));
-    let diagonal: f64 = entries
-        .iter()
-        .filter(|e| e.row == e.col)
-        .map(|e| e.val)
-        .sum();
-    let w = point_weight * diagonal / m.max(1) as f64;
-    let mut rhs = Mat::<f64>::zeros(m, 3);
-    for (corners, beta, d) in points {
-        let row: Vec<(usize, f64)> = corners
-            .iter()
-            .zip(beta)
-            .filter_map(|(v, b)| Some((*local.get(v)?, *b)))
+    /// The vertices of `R`, increasing: the unknowns.
+    inside: Vec<u32>,
+    /// Each one's unknown.
+    local: HashMap<u32, usize>,
+    /// The lower triangle of `L_Rᵀ L_R`.
+    bending: Vec<Triplet<usize, usize, f64>>,
+    /// The sum of its diagonal: over the unknowns, the unit the weights
+    /// are given in.
+    diagonal: f64,
+    /// The ties' entries, at [`TIE_WEIGHT`].
+    tied: Vec<Triplet<usize, usize, f64>>,
+}
+
+impl RestSystem {
+    /// The system over the skin whose Laplace–Beltrami rows are `skin`
+    /// (`n` avatar vertices), `region` saying which vertices are in `R`,
+    /// `ties` the pairs that move as one.
+    pub fn new(n: usize, skin: &SkinRows, region: &[bool], ties: &[(u32, u32)]) -> RestSystem {
+        let inside: Vec<u32> = (0..n as u32)
+            .filter(|&v| region.get(v as usize) == Some(&true) && skin.contains_key(&v))
             .collect();
-        for &(a, x) in &row {
-            for axis in 0..3 {
-                rhs[(a, axis)] += w * x * d[axis];
-            }
-            for &(b, y) in &row {
-                if a >= b {
-                    entries.push(Triplet::new(a, b, w * x * y));
+        let local: HashMap<u32, usize> = inside.iter().enumerate().map(|(i, v)| (*v, i)).collect();
+        let mut rows: BTreeSet<u32> = inside.iter().copied().collect();
+        for v in &inside {
+            rows.extend(skin[v].iter().map(|(w, _)| *w));
+        }
+        let laplacian_rows: Vec<Vec<(usize, f64)>> = rows
+            .iter()
+            .map(|&r| {
+                skin.get(&r)
+                    .into_iter()
+                    .flatten()
+                    .filter_map(|(v, x)| Some((*local.get(v)?, *x)))
+                    .collect()
+            })
+            .collect();
+        let bending = normal_lower(laplacian_rows.iter().map(|r| r.as_slice()));
+        let diagonal: f64 = bending
+            .iter()
+            .filter(|e| e.row == e.col)
+            .map(|e| e.val)
+            .sum();
+        let tie = TIE_WEIGHT * diagonal / inside.len().max(1) as f64;
+        let mut tied = Vec::new();
+        for (a, b) in ties {
+            let (Some(&i), Some(&j)) = (local.get(a), local.get(b)) else {
+                continue;
+            };
+            tied.push(Triplet::new(i, i, tie));
+            tied.push(Triplet::new(j, j, tie));
+            tied.push(Triplet::new(i.max(j), i.min(j), -tie));
+        }
+        RestSystem {
+            n,
+            inside,
+            local,
+            bending,
+            diagonal,
+            tied,
+        }
+    }
+
+    /// The change `u` of every avatar vertex (module docs) through
+    /// `points`, held at `point_weight` (against one row squared); `None`
+    /// if the system cannot be solved.
+    pub fn rest_field(&self, points: &[PointChange], point_weight: f64) -> Option<Vec<DVec3>> {
+        let m = self.inside.len();
+        let w = point_weight * self.diagonal / m.max(1) as f64;
+        let mut entries = self.bending.clone();
+        let mut rhs = Mat::<f64>::zeros(m, 3);
+        for (corners, beta, d) in points {
+            let row: Vec<(usize, f64)> = corners
+                .iter()
+                .zip(beta)
+                .filter_map(|(v, b)| Some((*self.local.get(v)?, *b)))
+                .collect();
+            for &(a, x) in &row {
+                for axis in 0..3 {
+                    rhs[(a, axis)] += w * x * d[axis];
+                }
+                for &(b, y) in &row {
+                    if a >= b {
+                        entries.push(Triplet::new(a, b, w * x * y));
+                    }
                 }
             }
         }
+        entries.extend_from_slice(&self.tied);
+        let llt = sparse_cholesky::factor(m, &entries).ok()?;
+        llt.solve_in_place(&mut rhs);
+        let mut u = vec![DVec3::ZERO; self.n];
+        for (i, &v) in self.inside.iter().enumerate() {
+            u[v as usize] = DVec3::new(rhs[(i, 0)], rhs[(i, 1)], rhs[(i, 2)]);
+        }
+        Some(u)
     }
-    let tie = TIE_WEIGHT * diagonal / m.max(1) as f64;
-    for (a, b) in ties {
-        let (Some(&i), Some(&j)) = (local.get(a), local.get(b)) else {
-            continue;
-        };
-        entries.push(Triplet::new(i, i, tie));
-        entries.push(Triplet::new(j, j, tie));
-        entries.push(Triplet::new(i.max(j), i.min(j), -tie));
-    }
-    let llt = sparse_cholesky::factor(m, &entries).ok()?;
-    llt.solve_in_place(&mut rhs);
-    let mut u = vec![DVec3::ZERO; n];
-    for (i, &v) in inside.iter().enumerate() {
-        u[v as usize] = DVec3::new(rhs[(i, 0)], rhs[(i, 1)], rhs[(i, 2)]);
-    }
-    Some(u)
 }
 
 /// Touching skin kept from passing through itself, in rounds: each group

@@ -1,7 +1,7 @@
 //! The skin laid on the scanned face by closest points (beyond the paper):
 //! rounds of a non-rigid ICP (Amberg, Romdhani & Vetter 2007, *Optimal
 //! step nonrigid ICP*), each solving the skin's change again
-//! ([`mod@super::rest_field`]) with the wanted changes its closest points
+//! ([`super::rest_field::RestSystem::rest_field`]) with the wanted changes its closest points
 //! give.
 //!
 //! **Why not the registration's points alone.** The registration says
@@ -44,11 +44,11 @@
 //!   pulled onto them, the lids crumpled (33–49 creased edges against
 //!   15–21, for the first three people).
 
-use super::rest_field::{PointChange, SkinRows, rest_field};
+use super::rest_field::{PointChange, RestSystem};
 use crate::avatar::registration::find_face::FACE_TOLERANCE_MM;
 use crate::avatar::registration::nonrigid::vertex_normals;
-use crate::geometry::closest_point::{ClosestPoint, TriangleTree};
-use crate::geometry::mesh_boundary::boundary_edges;
+use crate::geometry::closest_point::TriangleTree;
+use crate::geometry::mesh_boundary::{boundary_edges, on_boundary};
 use glam::DVec3;
 use std::collections::HashSet;
 
@@ -90,14 +90,10 @@ pub struct Skin<'a> {
     pub positions: &'a [DVec3],
     /// The face parts' triangles.
     pub triangles: &'a [[u32; 3]],
-    /// Its Laplace–Beltrami rows.
-    pub rows: &'a SkinRows,
-    /// Which vertices may move (within the reach of the face).
-    pub region: &'a [bool],
+    /// Its bending and ties over the vertices that may move.
+    pub system: &'a RestSystem,
     /// Which vertices are the map's face vertices.
     pub face: &'a [bool],
-    /// Touching vertices held together ([`super::rest_field::touching_pairs`]).
-    pub ties: &'a [(u32, u32)],
 }
 
 /// The person's scanned neutral in the avatar's frame, on the mask.
@@ -142,7 +138,12 @@ pub fn fit_to_scan(
                 return None;
             }
             let c = registered.closest_within(skin.positions[v], on_mask)?;
-            let inside = !on_rim(&c, scan.triangles[c.triangle], &rim, &rim_vertices);
+            let inside = !on_boundary(
+                scan.triangles[c.triangle],
+                c.barycentric,
+                &rim,
+                &rim_vertices,
+            );
             inside
                 .then(|| (skin.positions[v] - c.point).dot(registered.triangle_normal(c.triangle)))
         })
@@ -161,8 +162,12 @@ pub fn fit_to_scan(
                 continue;
             };
             let normal = surface.triangle_normal(c.triangle);
-            if on_rim(&c, scan.triangles[c.triangle], &rim, &rim_vertices)
-                || normals[v].dot(normal) < FACING
+            if on_boundary(
+                scan.triangles[c.triangle],
+                c.barycentric,
+                &rim,
+                &rim_vertices,
+            ) || normals[v].dot(normal) < FACING
             {
                 continue;
             }
@@ -189,27 +194,7 @@ pub fn fit_to_scan(
             wanted.push((t, b, q - at_rest));
         }
         asked = wanted.iter().map(|w| w.2.length()).fold(0.0, f64::max);
-        field = rest_field(n, skin.rows, skin.region, &wanted, skin.ties, FIT_WEIGHT)?;
+        field = skin.system.rest_field(&wanted, FIT_WEIGHT)?;
     }
     Some((field, asked))
 }
-
-/// Whether closest point `c` on triangle `t` of the scan lies on its rim:
-/// on a boundary edge (`rim`, as `(min, max)`) or at a boundary vertex.
-fn on_rim(
-    c: &ClosestPoint,
-    t: [u32; 3],
-    rim: &HashSet<(u32, u32)>,
-    rim_vertices: &HashSet<u32>,
-) -> bool {
-    (0..3).any(|k| {
-        let (a, b) = (t[(k + 1) % 3], t[(k + 2) % 3]);
-        (c.barycentric[k] <= ON_EDGE && rim.contains(&(a.min(b), a.max(b))))
-            || (c.barycentric[k] >= 1.0 - ON_EDGE && rim_vertices.contains(&t[k]))
-    })
-}
-
-/// A barycentric coordinate this close to 0 puts a closest point on the
-/// edge facing that corner (closest points on an edge or a corner have
-/// exact zeros; this only absorbs rounding).
-const ON_EDGE: f64 = 1e-9;

@@ -36,7 +36,7 @@ use super::lip_sides::LipSides;
 use super::mask_holes::{hole_rims, mouth_rim};
 use super::nonrigid::MIN_NORMAL_DOT;
 use crate::geometry::closest_point::TriangleTree;
-use crate::geometry::mesh_boundary::boundary_edges;
+use crate::geometry::mesh_boundary::{boundary_edges, on_boundary};
 use crate::geometry::one_ring::one_rings;
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
@@ -208,20 +208,4 @@ pub fn correspondence_map(
         mask_triangles: grid.triangles().to_vec(),
         face,
     }
-}
-
-/// Whether barycentric point `b` of triangle `t` lies on a vertex or an
-/// edge of the mask's `boundary` (edges, and their `vertices`).
-fn on_boundary(
-    t: [u32; 3],
-    b: [f64; 3],
-    boundary: &HashSet<(u32, u32)>,
-    vertices: &HashSet<u32>,
-) -> bool {
-    const ON: f64 = 1e-9;
-    (0..3).any(|k| {
-        let (i, j) = (t[(k + 1) % 3], t[(k + 2) % 3]);
-        (b[k] >= 1.0 - ON && vertices.contains(&t[k]))
-            || (b[k] <= ON && boundary.contains(&(i.min(j), i.max(j))))
-    })
 }

@@ -10,7 +10,8 @@
 //! ```
 //!
 //! The figures behind issue 41's point 3 (`docs/avatar.md`). `AVATAR=name`
-//! takes the face on a generated variant instead of the default avatar;
+//! takes the face on a generated variant instead of the default avatar,
+//! `AVATAR=path.glb` on that file (`../shared/avatars/ict-facekit.glb`);
 //! `DUMP=dir` writes, per person, the new head, the stock one, the scan,
 //! the mask as registered, the creased edges, the points left out and
 //! each scanned point's distance from the new skin, to look at.
@@ -126,6 +127,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let seeds = study_seeds()?;
     // AVATAR=name: one of the generated variants instead of the default.
     let glb = match std::env::var("AVATAR") {
+        Ok(name) if name.ends_with(".glb") => read_avatar_bytes(&std::fs::read(&name)?, &name)?,
         Ok(name) => {
             let variant = likeness_sim::avatar_variants::avatar_variants()
                 .into_iter()

@@ -395,6 +395,7 @@ pub fn closest_point_on_triangle(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> (DVe
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::test_shapes::uv_sphere;
 
     /// A bumpy grid surface of 2·20·20 triangles.
     fn surface() -> (Vec<DVec3>, Vec<[u32; 3]>) {
@@ -471,34 +472,6 @@ mod tests {
         let found = grid.closest_within(beyond, 0.31).expect("within reach");
         assert!((found.distance - 0.3).abs() < 0.01, "{}", found.distance);
         assert!(grid.closest_within(beyond, 0.29).is_none());
-    }
-
-    /// A UV sphere of radius 1 (`rings` × `segments`, fans at both
-    /// poles, faces outwards): the crowded poles a uniform grid chokes on.
-    fn uv_sphere(rings: usize, segments: usize) -> (Vec<DVec3>, Vec<[u32; 3]>) {
-        let mut positions = vec![DVec3::Z, -DVec3::Z];
-        for r in 1..rings {
-            let theta = std::f64::consts::PI * r as f64 / rings as f64;
-            for s in 0..segments {
-                let phi = std::f64::consts::TAU * s as f64 / segments as f64;
-                positions.push(DVec3::new(
-                    theta.sin() * phi.cos(),
-                    theta.sin() * phi.sin(),
-                    theta.cos(),
-                ));
-            }
-        }
-        let at = |r: usize, s: usize| (2 + (r - 1) * segments + s % segments) as u32;
-        let mut triangles = Vec::new();
-        for s in 0..segments {
-            triangles.push([0, at(1, s), at(1, s + 1)]);
-            triangles.push([1, at(rings - 1, s + 1), at(rings - 1, s)]);
-            for r in 1..rings - 1 {
-                triangles.push([at(r, s), at(r + 1, s), at(r + 1, s + 1)]);
-                triangles.push([at(r, s), at(r + 1, s + 1), at(r, s + 1)]);
-            }
-        }
-        (positions, triangles)
     }
 
     #[test]

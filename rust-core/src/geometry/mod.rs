@@ -40,6 +40,8 @@ pub mod ray_cover;
 pub mod self_intersection;
 pub mod sparse_cholesky;
 pub mod sphere_fit;
+#[cfg(test)]
+pub(crate) mod test_shapes;
 pub mod topology;
 pub mod winding_number;
 

@@ -11,11 +11,12 @@
 //!   where `u` puts it: the eyeball moves into the person's eye opening,
 //!   scaled to it. It does not turn: a turned eyeball is a gaze, and at
 //!   rest the eyes look ahead. Every other piece within that sphere (the
-//!   socket's lining) goes with its eyeball. A lid that then lies deeper
-//!   inside the eyeball than it did on the stock avatar pushes the eye
-//!   back, along the face's backward direction, until every lid is at most
-//!   as deep as it was ([`LID_OFFSET_MM`] more clear), so the eye never
-//!   shows through a lid at rest.
+//!   socket's lining) goes with its eyeball. A lid in front of the
+//!   eyeball that then lies deeper inside it than it did on the stock
+//!   avatar pushes the eye back, along the face's backward direction,
+//!   until every such lid is at most as deep as it was ([`LID_OFFSET_MM`]
+//!   more clear), so the eye never shows through a lid at rest
+//!   (`push_back`).
 //! - **Near the skin** a piece that bends (a lining, an ear; not an
 //!   eyeball, nor teeth, which the avatar's own targets move only
 //!   rigidly) blends from its group's motion into the skin's
@@ -297,9 +298,20 @@ fn carried(
     fit_scale_shift(&from, &to, &w)
 }
 
-/// Shifts the eyeball's `fit` along `backward` until no lid vertex lies
-/// deeper inside it than on the stock avatar (`eyeball` at `positions`)
-/// plus `clear`; returns how far (avatar units).
+/// Shifts the eyeball's `fit` along `backward` until no lid in front of
+/// it lies deeper inside it than on the stock avatar (`eyeball` at
+/// `positions`); returns how far (avatar units). A lid that went deeper
+/// is cleared by `clear` more, so the eye never shows through it at rest.
+///
+/// Only lids in front of the eyeball's centre count: pushing the eyeball
+/// back draws it away from them, but into the skin that wraps round its
+/// sides and back (a socket's lining, a head whose skin runs behind the
+/// eye), which each round then sank deeper. Counted, they pushed
+/// ICT-FaceKit's eyes back 4.5 mm when the avatar took its own face on
+/// ARKit's mesh. A round that leaves the deepest lid no shallower is
+/// undone and the pushing stops: an eyeball open at the back (MakeHuman's)
+/// took its lids in through the opening as it went back, 2.6 mm for its
+/// own face.
 fn push_back(
     positions: &[DVec3],
     field: &[DVec3],
@@ -309,20 +321,25 @@ fn push_back(
     backward: DVec3,
     clear: f64,
 ) -> f64 {
+    let front: Vec<u32> = lids
+        .iter()
+        .copied()
+        .filter(|&v| (positions[v as usize] - eyeball.centre).dot(backward) < 0.0)
+        .collect();
     // The eyeball was made over `positions`: its tree is the stock one.
-    let allowed: Vec<f64> = lids
+    let allowed: Vec<f64> = front
         .iter()
         .map(|&v| depth(&eyeball.tree, positions[v as usize], eyeball.open))
         .collect();
-    let mut total = 0.0;
-    for _ in 0..PUSH_ROUNDS {
+    // How much deeper than at rest the deepest lid lies, with `fit`.
+    let deepest = |fit: &ScaleShift| {
         let placed: Vec<DVec3> = eyeball
             .vertices
             .iter()
             .map(|&v| fit.apply(positions[v as usize]))
             .collect();
         let grid = eyeball.tree.moved_to(&placed);
-        let worst = lids
+        front
             .iter()
             .zip(&allowed)
             .map(|(&v, a)| {
@@ -331,14 +348,25 @@ fn push_back(
                     positions[v as usize] + field[v as usize],
                     eyeball.open,
                 );
-                if d > 0.0 { d - a + clear } else { 0.0 }
+                if d > 0.0 { d - a } else { 0.0 }
             })
-            .fold(0.0, f64::max);
+            .fold(0.0, f64::max)
+    };
+    let mut total = 0.0;
+    let mut worst = deepest(fit);
+    for _ in 0..PUSH_ROUNDS {
         if worst <= 0.0 {
             break;
         }
-        fit.to += backward * worst;
-        total += worst;
+        let step = worst + clear;
+        fit.to += backward * step;
+        let after = deepest(fit);
+        if after >= worst {
+            fit.to -= backward * step;
+            break;
+        }
+        total += step;
+        worst = after;
     }
     total
 }
@@ -346,6 +374,42 @@ fn push_back(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::test_shapes::uv_sphere;
+
+    /// An eyeball of radius 1 looking along +Z, a lid resting on its front
+    /// pole that sinks 0.1 into it, and skin resting against its back pole
+    /// that does not move: the eyeball goes back by the lid's 0.1 and the
+    /// clearance, once, and the skin behind it does not drive it further
+    /// (counted, it sank as the eyeball went back and was pushed again,
+    /// round after round).
+    #[test]
+    fn an_eyeball_is_pushed_back_from_the_lids_in_front_only() {
+        let (mut positions, triangles) = uv_sphere(24, 32);
+        let eyeball = Eyeball::new(&positions, triangles);
+        let lid = positions.len() as u32;
+        positions.push(DVec3::new(0.0, 0.0, 1.0));
+        let behind = lid + 1;
+        positions.push(DVec3::new(0.0, 0.0, -1.01));
+        let mut field = vec![DVec3::ZERO; positions.len()];
+        field[lid as usize] = DVec3::new(0.0, 0.0, -0.1);
+        let mut fit = ScaleShift {
+            from: DVec3::ZERO,
+            to: DVec3::ZERO,
+            scale: 1.0,
+        };
+        let clear = 0.02;
+        let pushed = push_back(
+            &positions,
+            &field,
+            &eyeball,
+            &mut fit,
+            &[lid, behind],
+            -DVec3::Z,
+            clear,
+        );
+        assert!((pushed - (0.1 + clear)).abs() < 1e-3, "{pushed}");
+        assert!((fit.to - DVec3::new(0.0, 0.0, -pushed)).length() < 1e-12);
+    }
 
     #[test]
     fn a_scaled_and_shifted_ring_gives_back_its_scale_and_shift() {

@@ -49,6 +49,7 @@ use super::partial_transfer::adjacent_step::within;
 use super::partial_transfer::stay_put::STILL_MM;
 use super::registration::FaceRegistration;
 use super::registration::find_face::FACE_TOLERANCE_MM;
+use super::registration::nonrigid::vertex_normals;
 use crate::avatar::partial_transfer::lid_contacts::mask_eye_holes;
 use crate::geometry::closest_point::TriangleTree;
 use crate::geometry::laplacian::laplace_beltrami_rows;
@@ -286,12 +287,21 @@ pub fn skin_change(
         .iter()
         .flat_map(|h| h.upper.iter().chain(&h.lower).copied())
         .collect();
-    let pulling: Vec<u32> = boundary_edges(&registration.map.mask_triangles)
+    let registered_normals = vertex_normals(
+        &registration.mask_on_avatar,
+        &registration.map.mask_triangles,
+    );
+    let pulling: Vec<(u32, f64)> = boundary_edges(&registration.map.mask_triangles)
         .iter()
         .flat_map(|&(a, b)| [a, b])
         .collect::<BTreeSet<u32>>()
         .into_iter()
-        .filter(|i| points[*i as usize].is_some() && !eye_rims.contains(i))
+        .filter(|i| !eye_rims.contains(i))
+        .filter_map(|i| {
+            let r = registration.mask_on_avatar[i as usize];
+            let on_skin = at(&points[i as usize], &positions)?;
+            Some((i, (on_skin - r).dot(registered_normals[i as usize])))
+        })
         .collect();
     let skin = Skin {
         positions: &positions,

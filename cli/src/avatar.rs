@@ -5,6 +5,9 @@
 
 use crate::CliResult;
 use crate::avatar_preview::PreviewInput;
+use crate::avatar_summary::{
+    PartSummary, PreviewSummary, Summary, Timings, print_summary, worst_shape,
+};
 use crate::info::read_session_template_first;
 use likeness::avatar::glb::{GlbAvatar, new_avatar_glb, read_avatar, read_avatar_bytes};
 use likeness::avatar::personal_avatar::{
@@ -18,7 +21,6 @@ use likeness::geometry::topology::Topology;
 use likeness::io::atomic_write::write_atomically;
 use likeness::personalize::{Method, personalize};
 use likeness::session::{Session, Template};
-use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::sync::mpsc::Receiver;
 use std::time::Instant;
@@ -48,119 +50,6 @@ pub struct AvatarArgs {
     pub preview: Option<PathBuf>,
     /// Print JSON instead of text.
     pub json: bool,
-}
-
-/// The summary `--json` prints.
-#[derive(Serialize)]
-struct Summary {
-    avatar: String,
-    out: String,
-    /// What the shapes in `out` are.
-    shapes: &'static str,
-    method: String,
-    vertices: usize,
-    morph_targets: usize,
-    arkit_found: usize,
-    arkit_missing: Vec<&'static str>,
-    face_vertices: usize,
-    /// Each part of the avatar and what it was found to be.
-    parts: Vec<PartSummary>,
-    /// Whose face the avatar has at rest: "person" (the scanned neutral
-    /// taken) or "stock".
-    rest_face: &'static str,
-    /// With the person's face: how far the new rest passes from the scanned
-    /// neutral at the mask's vertices, mean and largest (mm), and the
-    /// largest change of the rest (mm).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    face_fit_mm: Option<[f64; 2]>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    face_largest_change_mm: Option<f64>,
-    /// With the person's face: how far the scanned neutral lies from the
-    /// new skin over the mask's vertices on it, mean and 95th percentile
-    /// (mm), and how many mask vertices asked nothing of the skin (off it,
-    /// or lying folded on it).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    face_surface_mm: Option<[f64; 2]>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    face_points_left_out: Option<usize>,
-    registration_residual_mean_mm: f64,
-    registration_residual_max_mm: f64,
-    /// The avatar's shapes that move elsewhere on the face than ARKit's of
-    /// the same name, left out of placing the mask, with how far off each
-    /// was (share of the eye distance).
-    features_left_out: Vec<(String, f64)>,
-    registration_cached: bool,
-    registration_seconds: f64,
-    retarget_weight_min: f64,
-    retarget_weight_max: f64,
-    /// `‖G w̃_j − M B_j‖ / ‖M B_j‖` at its largest: huge where a shape
-    /// hardly moves the person's face (tongueOut) but the avatar's own
-    /// target of that name moves its skin a little.
-    retarget_worst_relative_residual: f64,
-    /// The same with the person's motion floored at 1 mm RMS: what the
-    /// check compares with its limit, and the CLI prints.
-    retarget_worst_floored_residual: f64,
-    /// The shape of that worst floored residual.
-    retarget_worst_shape: String,
-    /// Shapes past a limit of the check of the output (each also a
-    /// warning).
-    checked_faults: usize,
-    /// Vertices set by the face step and the adjacent step, and lid
-    /// vertices put back out of an eyeball (0 when writing `A_j`).
-    implant_face_vertices: usize,
-    implant_adjacent_vertices: usize,
-    lids_repaired: usize,
-    /// Skin edges creased where the avatar's own shape keeps them smooth,
-    /// over the 52 shapes, before the creases finer than the mask were
-    /// smoothed out and after (`partial_transfer::crease_smoothing`; 0
-    /// when writing `A_j`).
-    creases_found: usize,
-    creases_left: usize,
-    /// Steps skipped or limited because the avatar lacked something, and
-    /// each shape past a limit of the check of the output.
-    warnings: Vec<String>,
-    seconds: Timings,
-    out_bytes: u64,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    retarget_map: Option<String>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    preview: Option<PreviewSummary>,
-}
-
-/// One part of the avatar: its name and its role (`skin`, `eyeball`,
-/// `upper teeth`, `lower teeth`, `teeth`, `tongue` or `other`).
-#[derive(Serialize)]
-struct PartSummary {
-    name: String,
-    role: &'static str,
-}
-
-/// What `--preview` wrote.
-#[derive(Serialize)]
-struct PreviewSummary {
-    dir: String,
-    files: usize,
-    bytes: usize,
-    sheet_width: u32,
-    sheet_height: u32,
-}
-
-#[derive(Serialize, Default)]
-struct Timings {
-    /// The whole command from its start to the file written (before any
-    /// preview): the avatar is read, and its face found, while the session
-    /// is read and personalized, so this is less than the sum of the
-    /// steps.
-    total: f64,
-    read_session: f64,
-    personalize: f64,
-    read_avatar: f64,
-    registration: f64,
-    take_face: f64,
-    retargeting: f64,
-    implant: f64,
-    write: f64,
-    preview: f64,
 }
 
 /// The default avatar as GLB bytes.
@@ -223,17 +112,6 @@ fn default_cache_dir() -> PathBuf {
         .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache")))
         .unwrap_or_else(std::env::temp_dir)
         .join("likeness")
-}
-
-/// The ARKit name of the shape whose residual is largest (Apple's order),
-/// empty for no shapes.
-fn worst_shape(residuals: &[f64]) -> String {
-    residuals
-        .iter()
-        .enumerate()
-        .max_by(|a, b| a.1.total_cmp(b.1))
-        .and_then(|(j, _)| likeness::arkit::Blendshape::ALL.get(j))
-        .map_or(String::new(), |b| b.name().to_string())
 }
 
 /// What the avatar's thread prepares while the session is read: the avatar,
@@ -561,150 +439,4 @@ fn write_preview(
         colours: &crate::avatar_preview::vertex_colours(glb),
     };
     crate::avatar_preview::write_preview(&input, dir)
-}
-
-/// The parts by role, in the order roles first appear: `skin: head;
-/// eyeball: eyeLeft, eyeRight; …`, a name repeated as often as it has
-/// parts of that role (`eyeLeft ×3`).
-fn parts_line(parts: &[PartSummary]) -> String {
-    let mut roles: Vec<(&str, Vec<(&str, usize)>)> = Vec::new();
-    for p in parts {
-        let at = match roles.iter().position(|(r, _)| *r == p.role) {
-            Some(at) => at,
-            None => {
-                roles.push((p.role, Vec::new()));
-                roles.len() - 1
-            }
-        };
-        let names = &mut roles[at].1;
-        match names.iter_mut().find(|(n, _)| *n == p.name) {
-            Some((_, count)) => *count += 1,
-            None => names.push((&p.name, 1)),
-        }
-    }
-    roles
-        .iter()
-        .map(|(role, names)| {
-            let names: Vec<String> = names
-                .iter()
-                .map(|(n, c)| match c {
-                    1 => n.to_string(),
-                    c => format!("{n} ×{c}"),
-                })
-                .collect();
-            format!("{role}: {}", names.join(", "))
-        })
-        .collect::<Vec<_>>()
-        .join("; ")
-}
-
-fn print_summary(s: &Summary) {
-    println!(
-        "Avatar: {} ({} vertices, {} morph targets)",
-        s.avatar, s.vertices, s.morph_targets
-    );
-    println!(
-        "ARKit shapes on the avatar: {} of 52{}",
-        s.arkit_found,
-        if s.arkit_missing.is_empty() {
-            String::new()
-        } else {
-            format!(" (missing: {})", s.arkit_missing.join(", "))
-        }
-    );
-    println!(
-        "Face found: {} face vertices, registration residual mean {:.3} mm, max {:.3} mm{}",
-        s.face_vertices,
-        s.registration_residual_mean_mm,
-        s.registration_residual_max_mm,
-        if s.registration_cached {
-            " (cached)".to_string()
-        } else {
-            format!(" ({:.2} s)", s.registration_seconds)
-        }
-    );
-    if !s.features_left_out.is_empty() {
-        println!(
-            "Not used to place the face (the avatar moves them elsewhere than ARKit does): {}",
-            s.features_left_out
-                .iter()
-                .map(|(name, off)| format!("{name} ({:.0}% of the eye distance off)", 100.0 * off))
-                .collect::<Vec<_>>()
-                .join(", ")
-        );
-    }
-    println!("Parts: {}", parts_line(&s.parts));
-    println!(
-        "Retargeting (Eq. 4, weights bounded to [0, 1]): {:.3} … {:.3}; worst residual {:.2} of the person's motion ({}; motion under 1 mm counted as 1 mm)",
-        s.retarget_weight_min,
-        s.retarget_weight_max,
-        s.retarget_worst_floored_residual,
-        s.retarget_worst_shape
-    );
-    println!(
-        "Wrote {} ({:.1} MB): {}",
-        s.out,
-        s.out_bytes as f64 / 1e6,
-        s.shapes
-    );
-    match (s.face_surface_mm, s.face_fit_mm) {
-        (Some([mean, p95]), Some([fit_mean, fit_max])) => {
-            println!(
-                "Rest face: the person's scanned face, lying {mean:.3} mm (mean), {p95:.2} mm (95%) from the new skin; the rest moved by up to {:.1} mm",
-                s.face_largest_change_mm.unwrap_or(0.0)
-            );
-            println!(
-                "  the registration's points {fit_mean:.3} mm (mean), {fit_max:.2} mm (largest) from their scanned places; {} mask vertices asked nothing of the skin (off it, or folded on it)",
-                s.face_points_left_out.unwrap_or(0)
-            );
-        }
-        _ => println!("Rest face: the avatar's own"),
-    }
-    if s.implant_face_vertices > 0 {
-        println!(
-            "Implanted: {} face vertices (step 1), {} next to them (step 2), {} lid vertices put back out of an eyeball; {} skin edges creased finer than the mask, {} after smoothing",
-            s.implant_face_vertices,
-            s.implant_adjacent_vertices,
-            s.lids_repaired,
-            s.creases_found,
-            s.creases_left
-        );
-    }
-    match s.checked_faults {
-        0 => println!(
-            "Checked: every shape within the limits (torn edges, folds, blinks, lids in the eyes, Eq. (4)'s residual)"
-        ),
-        n => println!("Checked: {n} shape(s) past a limit, each named in a warning above"),
-    }
-    if let Some(map) = &s.retarget_map {
-        println!("Wrote the retarget map {map}");
-    }
-    if let Some(p) = &s.preview {
-        println!(
-            "Wrote the preview {} ({} files, {:.1} MB; a {} × {} contact sheet): open {}",
-            p.dir,
-            p.files,
-            p.bytes as f64 / 1e6,
-            p.sheet_width,
-            p.sheet_height,
-            Path::new(&p.dir).join("index.html").display()
-        );
-    }
-    let t = &s.seconds;
-    println!(
-        "Time: {:.2} s in all; session {:.2} s, personalize ({}) {:.2} s, avatar {:.2} s and registration {:.2} s (while the session is read), face {:.2} s, retargeting {:.3} s, implant {:.2} s, write {:.2} s",
-        t.total,
-        t.read_session,
-        s.method,
-        t.personalize,
-        t.read_avatar,
-        t.registration,
-        t.take_face,
-        t.retargeting,
-        t.implant,
-        t.write
-    );
-    if s.preview.is_some() {
-        println!("Preview: {:.2} s", t.preview);
-    }
 }

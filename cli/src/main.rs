@@ -5,6 +5,7 @@
 
 mod avatar;
 mod avatar_preview;
+mod avatar_summary;
 mod demo_avatar;
 mod evaluate;
 mod info;

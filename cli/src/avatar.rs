@@ -378,6 +378,7 @@ pub fn avatar_command(args: &AvatarArgs) -> CliResult {
         implant_face_vertices: implanted.as_ref().map_or(0, |i| i.face_vertices),
         implant_adjacent_vertices: implanted.as_ref().map_or(0, |i| i.adjacent_vertices),
         lids_repaired: implanted.as_ref().map_or(0, |i| i.lids_repaired),
+        inside_put_back: implanted.as_ref().map_or(0, |i| i.put_back_behind_skin),
         creases_found: implanted.as_ref().map_or(0, |i| i.creases_found),
         creases_left: implanted.as_ref().map_or(0, |i| i.creases_left),
         warnings: made.warnings.iter().map(|w| w.to_string()).collect(),

@@ -64,6 +64,9 @@ pub(crate) struct Summary {
     pub(crate) implant_face_vertices: usize,
     pub(crate) implant_adjacent_vertices: usize,
     pub(crate) lids_repaired: usize,
+    /// Vertices from behind the skin put back behind it, over the 52
+    /// shapes (`partial_transfer::inside_follows`; 0 when writing `A_j`).
+    pub(crate) inside_put_back: usize,
     /// Skin edges creased where the avatar's own shape keeps them smooth,
     /// over the 52 shapes, before the creases finer than the mask were
     /// smoothed out and after (`partial_transfer::crease_smoothing`; 0
@@ -227,17 +230,18 @@ pub(crate) fn print_summary(s: &Summary) {
     }
     if s.implant_face_vertices > 0 {
         println!(
-            "Implanted: {} face vertices (step 1), {} next to them (step 2), {} lid vertices put back out of an eyeball; {} skin edges creased finer than the mask, {} after smoothing",
+            "Implanted: {} face vertices (step 1), {} next to them (step 2), {} lid vertices put back out of an eyeball, {} vertices from behind the skin put back behind it; {} skin edges creased finer than the mask, {} after smoothing",
             s.implant_face_vertices,
             s.implant_adjacent_vertices,
             s.lids_repaired,
+            s.inside_put_back,
             s.creases_found,
             s.creases_left
         );
     }
     match s.checked_faults {
         0 => println!(
-            "Checked: every shape within the limits (torn edges, folds, blinks, lids in the eyes, Eq. (4)'s residual)"
+            "Checked: every shape within the limits (torn edges, folds, blinks, lids in the eyes, the inside through the skin, Eq. (4)'s residual)"
         ),
         n => println!("Checked: {n} shape(s) past a limit, each named in a warning above"),
     }

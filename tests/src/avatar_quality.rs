@@ -21,6 +21,7 @@ use likeness::avatar::Avatar;
 use likeness::avatar::partial_transfer::Implanted;
 use likeness::avatar::registration::FaceRegistration;
 use likeness::avatar::registration::find_face::arkit_displacement;
+use likeness::avatar::showing_through::InsideProbe;
 
 pub use likeness::avatar::implant_check::{
     OWN_STRETCH, TORN_STRETCH, deepest_lid, eyeball_flags, eyeball_seen_share, head_edges, on_left,
@@ -46,6 +47,11 @@ pub struct Figures {
     pub deepest_lid_mm: (f64, Blendshape),
     /// Face vertices jawOpen takes to the other lip ([`lip_swaps`]).
     pub lip_swaps: usize,
+    /// The most places (vertices, triangles' centres) from behind the skin
+    /// one shape brings out in front of it, at any depth, where the own shape keeps them behind
+    /// ([`likeness::avatar::showing_through`]), the farthest of them (mm,
+    /// mask scale) and that shape.
+    pub most_showing: (usize, f64, Blendshape),
 }
 
 /// Vertices of the face parts that the avatar's own jawOpen (`own`) moves
@@ -97,6 +103,17 @@ pub fn figures(avatar: &Avatar, found: &FaceRegistration, implanted: &Implanted)
             }
         }
     }
+    let inside = InsideProbe::new(avatar, found);
+    let most_showing = Blendshape::ALL
+        .iter()
+        .map(|&b| {
+            let s = inside.showing(&own_shape(avatar, b), &implanted.shapes[b.index()], 0.0);
+            (s.points, s.depth * to_mm, b)
+        })
+        .fold(
+            (0, 0.0, Blendshape::JawOpen),
+            |a, b| if b.0 > a.0 { b } else { a },
+        );
     let forward = found.similarity.rotation * DVec3::Z;
     let on_left = |eye: &Vec<u32>| on_left(&rest, found, eye);
     let blinks = [
@@ -129,6 +146,7 @@ pub fn figures(avatar: &Avatar, found: &FaceRegistration, implanted: &Implanted)
         blinks,
         deepest_lid_mm: deepest,
         lip_swaps: swaps,
+        most_showing,
     }
 }
 
@@ -148,7 +166,8 @@ pub fn summary(found: &FaceRegistration, f: &Figures) -> String {
         .collect();
     format!(
         "coverage {:.1}%, residual {:.3} mm mean, registration {:.2} s ({} stages, {} steps); \
-         most torn {} of {} head edges ({}), {} shapes over 0.5%; {} lip vertices swapped in jawOpen;{blinks} deepest lid {:.2} mm ({}); {} eyeballs",
+         most torn {} of {} head edges ({}), {} shapes over 0.5%; {} lip vertices swapped in jawOpen;{blinks} deepest lid {:.2} mm ({}); \
+         most showing through the skin {} points, {:.2} mm ({}); {} eyeballs",
         100.0 * found.coverage,
         found.residual_mean_mm,
         found.seconds,
@@ -161,6 +180,9 @@ pub fn summary(found: &FaceRegistration, f: &Figures) -> String {
         f.lip_swaps,
         f.deepest_lid_mm.0,
         f.deepest_lid_mm.1,
+        f.most_showing.0,
+        f.most_showing.1,
+        f.most_showing.2,
         found.eyeballs.len(),
     )
 }

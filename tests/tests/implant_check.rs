@@ -7,7 +7,9 @@ use likeness::Blendshape;
 use likeness::avatar::glb::read::{GlbAvatar, read_avatar_bytes};
 use likeness::avatar::implant_check::{EyeProbe, Fault, check_shapes, head_edges, head_triangles};
 use likeness::avatar::personal_avatar::{AvatarWarning, PersonalAvatar};
+use likeness::avatar::registration::part_roles::PartRole;
 use likeness::avatar::rest_check::{REST_CREASE_SHARE, rest_creases, rest_spike};
+use likeness::avatar::showing_through::InsideProbe;
 
 fn default_glb() -> GlbAvatar {
     let bytes = likeness_sim::default_avatar::default_avatar_glb().expect("builds");
@@ -208,6 +210,89 @@ fn lid_pushed_into_the_eyeball_is_found(glb: &GlbAvatar) {
             }
         )),
         "{faults:?}"
+    );
+}
+
+/// A vertex of the mouth's lining brought out through the skin in
+/// subject 1's mouthSmileLeft is warned of, naming the shape; the same
+/// vertex moved as far back into the head is not.
+#[test]
+fn the_mouths_lining_brought_through_the_skin_is_found() {
+    let glb = default_glb();
+    let made = subject_1(&glb);
+    let found = &made.registration;
+    let avatar = &glb.avatar;
+    let mut shapes = shapes_of(&made);
+    let smile = Blendshape::MouthSmileLeft.index();
+    let probe = InsideProbe::new(avatar, found);
+    let forward = probe.forward();
+    let rest = avatar.positions();
+    let mm = found.similarity.scale / 1000.0;
+    // The lining's vertices (parts that are neither skin, eyeball, teeth
+    // nor tongue) the probe looks at.
+    let offsets = avatar.vertex_offsets();
+    let lining = |v: u32| {
+        let part = offsets.iter().rposition(|&o| o <= v as usize).unwrap_or(0);
+        found.roles.get(part) == Some(&PartRole::Other)
+    };
+    let got = &shapes[smile];
+    let posed = |v: u32, by: f64| (rest[v as usize] + got[v as usize]).as_dvec3() + forward * by;
+    // The first lining vertex that 10 mm forward lies more than 1 mm in
+    // front of the skin.
+    let (v, by) = probe
+        .places()
+        .iter()
+        .filter(|p| p[0] == p[1] && lining(p[0]))
+        .find_map(|p| {
+            let v = p[0];
+            let d = probe.depths_near(
+                |u| {
+                    if u == v {
+                        posed(u, 10.0 * mm)
+                    } else {
+                        posed(u, 0.0)
+                    }
+                },
+                &[*p],
+            );
+            (d[0] > mm).then_some((v, 10.0 * mm))
+        })
+        .expect("a lining vertex within 10 mm of the skin");
+    let residual = &made.retargeting.floored_residual;
+    assert!(
+        !check_shapes(avatar, found, &shapes, residual)
+            .iter()
+            .any(|f| matches!(f, Fault::InsideShowing { .. })),
+        "subject 1's own shapes show nothing"
+    );
+    let mut back = shapes.clone();
+    back[smile][v as usize] -= (forward * by).as_vec3();
+    assert!(
+        !check_shapes(avatar, found, &back, residual)
+            .iter()
+            .any(|f| matches!(f, Fault::InsideShowing { .. })),
+        "moved back into the head, it does not show"
+    );
+    shapes[smile][v as usize] += (forward * by).as_vec3();
+    let faults = check_shapes(avatar, found, &shapes, residual);
+    assert!(
+        faults.iter().any(|f| matches!(
+            f,
+            Fault::InsideShowing {
+                shape: Blendshape::MouthSmileLeft,
+                ..
+            }
+        )),
+        "{faults:?}"
+    );
+    let text = faults
+        .iter()
+        .find(|f| matches!(f, Fault::InsideShowing { .. }))
+        .map(|f| f.to_string())
+        .unwrap_or_default();
+    assert!(
+        text.contains("mouthSmileLeft") && text.contains("behind the skin"),
+        "{text}"
     );
 }
 

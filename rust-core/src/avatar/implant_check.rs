@@ -11,6 +11,7 @@
 //! | folded triangles ([`folded_triangles`]) | a head triangle turned past [`FOLD_ANGLE`] where the own shape turns it under [`OWN_FOLD_ANGLE`] | [`FOLDED_SHARE`] of the head's triangles |
 //! | the blink seen from the front ([`eyeball_seen_share`]) | the share of the eyeball's front half a ray from straight ahead reaches | the own blink's share + [`BLINK_SLACK`] |
 //! | a lid in an eyeball ([`deepest_lid`]) | the deepest a skin vertex goes inside an eyeball where the own shape keeps it out | [`LID_DEPTH_MM`] |
+//! | the inside showing ([`super::showing_through`]) | a vertex from behind the skin (a lining, teeth, tongue) in front of it, seen from straight ahead, where the own shape keeps it behind | [`SHOWING_DEPTH_MM`] |
 //! | the retargeting residual | `‖G w̃_j − M B_j‖` of Eq. (4) against the person's motion, floored at [`RESIDUAL_FLOOR_MM`] RMS | [`MAX_RELATIVE_RESIDUAL`] |
 //!
 //! Each leaves an avatar that still animates, and is written with a
@@ -18,9 +19,11 @@
 //! at rest is checked before the shapes are implanted on it
 //! ([`super::rest_check`]).
 
+pub use super::head_skin::{bounding_sphere, eyeball_flags, head_edges, head_triangles};
 use super::model::Avatar;
 use super::registration::FaceRegistration;
 use super::registration::find_face::arkit_displacement;
+use super::showing_through::InsideProbe;
 use crate::arkit::Blendshape;
 use crate::geometry::closest_point::TriangleTree;
 use crate::geometry::inside_surface::{facing_outwards, inside, is_open};
@@ -58,6 +61,12 @@ pub const BLINK_SLACK: f64 = 0.02;
 /// keeps it out (mm at the mask's scale): the lids of ARKit's template rest
 /// 0.4–0.6 mm apart, so 0.2 mm is below anything a capture can tell.
 pub const LID_DEPTH_MM: f64 = 0.2;
+
+/// How far in front of the skin (mm at the mask's scale) a vertex from
+/// behind it (the mouth's lining, teeth, tongue, a socket's lining) may
+/// come where the avatar's own shape keeps it behind
+/// ([`super::showing_through`]): as far as a lid may go into an eyeball.
+pub const SHOWING_DEPTH_MM: f64 = 0.2;
 
 /// The person's motion on the face rows of Eq. (4) is floored at this RMS
 /// (mm at the mask's scale) before the residual is compared with it, so a
@@ -118,6 +127,18 @@ pub enum Fault {
         /// The deepest lid vertex (avatar vertex).
         vertex: u32,
     },
+    /// What lies behind the skin comes out in front of it.
+    InsideShowing {
+        /// The shape.
+        shape: Blendshape,
+        /// Places (vertices and triangles' centres) in front of the skin by
+        /// more than [`SHOWING_DEPTH_MM`].
+        points: usize,
+        /// The farthest (mm at the mask's scale).
+        depth_mm: f64,
+        /// That vertex (avatar vertex).
+        vertex: u32,
+    },
     /// Eq. (4) reproduces nothing of the person's shape.
     Residual {
         /// The shape.
@@ -135,6 +156,7 @@ impl Fault {
             | Fault::Folded { shape, .. }
             | Fault::BlinkOpen { shape, .. }
             | Fault::LidInEyeball { shape, .. }
+            | Fault::InsideShowing { shape, .. }
             | Fault::Residual { shape, .. } => *shape,
         }
     }
@@ -179,6 +201,15 @@ impl fmt::Display for Fault {
                 f,
                 "{shape} takes a lid {depth_mm:.2} mm into the eyeball (limit {LID_DEPTH_MM} mm) at vertex {vertex}"
             ),
+            Fault::InsideShowing {
+                shape,
+                points,
+                depth_mm,
+                vertex,
+            } => write!(
+                f,
+                "{shape} brings {points} points from behind the skin (the mouth's or a socket's lining, teeth, tongue) out in front of it, up to {depth_mm:.2} mm (limit {SHOWING_DEPTH_MM} mm), the farthest at vertex {vertex}"
+            ),
             Fault::Residual { shape, relative } => write!(
                 f,
                 "the avatar's own shapes reproduce little of the person's {shape} (residual {:.0}% of its motion): the skin next to the face follows it loosely",
@@ -186,44 +217,6 @@ impl fmt::Display for Fault {
             ),
         }
     }
-}
-
-/// The unique edges of the avatar's face parts (the head's skin) whose
-/// ends are in no eyeball.
-pub fn head_edges(avatar: &Avatar, found: &FaceRegistration) -> Vec<(u32, u32)> {
-    let in_eyeball = eyeball_flags(avatar, found);
-    let mut edges: Vec<(u32, u32)> = avatar
-        .part_triangles(&found.face_parts())
-        .iter()
-        .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
-        .filter(|(a, b)| !in_eyeball[*a as usize] && !in_eyeball[*b as usize])
-        .map(|(a, b)| (a.min(b), a.max(b)))
-        .collect();
-    edges.sort_unstable();
-    edges.dedup();
-    edges
-}
-
-/// The triangles of the avatar's face parts (the head's skin) with no
-/// corner in an eyeball.
-pub fn head_triangles(avatar: &Avatar, found: &FaceRegistration) -> Vec<[u32; 3]> {
-    let in_eyeball = eyeball_flags(avatar, found);
-    avatar
-        .part_triangles(&found.face_parts())
-        .into_iter()
-        .filter(|t| t.iter().all(|&v| !in_eyeball[v as usize]))
-        .collect()
-}
-
-/// Whether each avatar vertex is in an eyeball the registration found.
-pub fn eyeball_flags(avatar: &Avatar, found: &FaceRegistration) -> Vec<bool> {
-    let mut flags = vec![false; avatar.vertex_count()];
-    for &v in found.eyeballs.iter().flatten() {
-        if let Some(f) = flags.get_mut(v as usize) {
-            *f = true;
-        }
-    }
-    flags
 }
 
 /// The avatar's own displacement for ARKit shape `b` (zero without one).
@@ -285,18 +278,6 @@ pub fn folded_triangles(
         .collect();
     folded.sort_by(|x, y| y.0.total_cmp(&x.0));
     folded.into_iter().map(|(_, t)| t).collect()
-}
-
-/// The centroid of `vertices` at `rest` and their largest distance from
-/// it.
-pub fn bounding_sphere(rest: &[DVec3], vertices: &[u32]) -> (DVec3, f64) {
-    let centre =
-        vertices.iter().map(|&v| rest[v as usize]).sum::<DVec3>() / vertices.len().max(1) as f64;
-    let radius = vertices
-        .iter()
-        .map(|&v| (rest[v as usize] - centre).length())
-        .fold(0.0, f64::max);
-    (centre, radius)
 }
 
 /// The share of eyeball `eye`'s vertices on its front half (towards
@@ -513,6 +494,7 @@ pub fn check_shapes(
     let still = 0.25 * LID_DEPTH_MM / to_mm;
     let torn_limit = (TORN_SHARE * edges.len() as f64) as usize;
     let folded_limit = (FOLDED_SHARE * triangles.len() as f64) as usize;
+    let inside = InsideProbe::new(avatar, found);
     let probes: Vec<EyeProbe> = found
         .eyeballs
         .iter()
@@ -551,6 +533,15 @@ pub fn check_shapes(
                     vertex,
                 });
             }
+        }
+        let showing = inside.showing(&own, got, SHOWING_DEPTH_MM / to_mm);
+        if showing.points > 0 {
+            faults.push(Fault::InsideShowing {
+                shape: b,
+                points: showing.points,
+                depth_mm: showing.depth * to_mm,
+                vertex: showing.vertex,
+            });
         }
         faults.extend(open_blinks(avatar, found, b, (&own, got)));
         if let Some(r) = relative_residual

@@ -12,7 +12,9 @@
 //! | §3.3, Fig. 3 | seamless partial deformation transfer: the person's shapes implanted | [`partial_transfer`] |
 //! | beyond §3.3 | the person's own face at rest: the skin laid on the scanned neutral, the head, eyes and teeth following | [`person_face`] |
 //! | §3.3 end to end | the person's avatar as GLB bytes, steps skipped said, progress and cancel | [`personal_avatar`] |
-//! | (beyond the paper) the product checks its output | torn edges, folds, the blink, lids in eyes, Eq. (4)'s residual | [`implant_check`] |
+//! | (beyond the paper) the product checks its output | torn edges, folds, the blink, lids in eyes, the inside through the skin, Eq. (4)'s residual | [`implant_check`] |
+//! | (beyond the paper) the inside of the head in front of the skin | [`showing_through`] |
+//! | | the head's skin as the checks see it: edges, triangles, eyeballs | [`head_skin`] |
 //! | (beyond the paper) the face at rest checked | spikes and creases leave the avatar's own face | [`rest_check`] |
 //! | §4.2, Fig. 7 and 8 | manual, automatic and personalized animation against the person's expression on the face region | [`likeness_check`] |
 //! | | what was made, in a few sentences for the app | [`avatar_summary`] |
@@ -21,6 +23,7 @@
 pub mod avatar_pose;
 pub mod avatar_summary;
 pub mod glb;
+pub mod head_skin;
 pub mod implant_check;
 pub mod likeness_check;
 pub mod model;
@@ -31,6 +34,7 @@ pub mod personal_avatar;
 pub mod registration;
 pub mod rest_check;
 pub mod retargeting;
+pub mod showing_through;
 pub mod target_names;
 
 pub use model::{Avatar, AvatarMesh, AvatarPart, InvalidAvatar};

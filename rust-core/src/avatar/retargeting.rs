@@ -107,7 +107,7 @@
 //! is the automatic retargeting; the weights themselves are a product on
 //! their own (a map from ARKit's 52 weights to the avatar's targets).
 
-use super::implant_check::eyeball_flags;
+use super::head_skin::eyeball_flags;
 use super::model::Avatar;
 use super::own_shapes::{MaskOnSkin, face_part_triangles};
 use super::registration::FaceRegistration;

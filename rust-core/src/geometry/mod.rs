@@ -16,7 +16,8 @@
 //! | §3.3, the blend margin; motion faded out where nothing moves | shortest edge paths from a set of vertices (Dijkstra) | [`edge_distance`] |
 //! | §3.2 (Eq. 2), §3.3 steps 1 and 2 | the cotangent Laplacian (gradient form) and the uniform one, as sparse entries | [`laplacian`] |
 //! | §3.3 step 2, the person's face: the uniform Laplacian's rows | each vertex's one-ring | [`one_ring`] |
-//! | beyond §3.3, the blink seen from the front: rays along one direction against triangles binned across it (Möller–Trumbore) | [`ray_cover`] |
+//! | beyond §3.3, the blink seen from the front, the inside through the skin: rays along one direction against triangles binned across it (Möller–Trumbore) | [`ray_cover`] |
+//! | beyond §3.3, the inside through the skin: where a shape moves | cubes over a box of vertices, grown by whole cubes | [`cube_grid`] |
 //! | beyond §3.3, the person's face: skin that must not pass through itself | triangle pairs that cut through each other (Möller–Trumbore, binned) | [`self_intersection`] |
 //! | every linear solve (Eq. 4's transfers, both steps of §3.3, the registration) | one sparse Cholesky factorization; a fixed pattern analysed once and refilled | [`sparse_cholesky`] |
 //! | §3.3, Eq. 4 with the weights in `[0, 1]` (beyond the paper) | a convex quadratic's least over a box (primal–dual active set) | [`box_quadratic`] |
@@ -27,6 +28,7 @@
 pub mod box_quadratic;
 pub mod closest_point;
 pub mod connected_components;
+pub mod cube_grid;
 pub mod deformation_gradient;
 pub mod deformation_transfer;
 pub mod dihedral_angle;

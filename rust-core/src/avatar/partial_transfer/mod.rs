@@ -5,7 +5,8 @@
 //! with the face fixed; a lid that ends inside an eyeball is put back on
 //! it; everything else (eyeballs, teeth, tongue, the back
 //! of the head) follows `A_j`, which is zero where the avatar's own shapes
-//! do not move it.
+//! do not move it, except what lies just behind the skin, which follows
+//! the skin ([`inside_follows`]).
 //!
 //! **What step 1 carries.** Beyond the paper, step 1 carries the person's
 //! deviation from the automatic retargeting as the mask sees it,
@@ -35,6 +36,7 @@
 //! | (beyond the paper) a closed eye whose opening the contacts cannot find (lids folding into the sockets) closes the avatar's way: its own blink on the lids where the person's eye closes | [`closed_lids`] |
 //! | (beyond the paper) creases finer than the mask, which the transfer carries onto finer skin, smoothed out of the person's motion | [`crease_smoothing`] |
 //! | (beyond the paper) what neither the person nor the avatar's rig moves stays put | [`stay_put`] |
+//! | (beyond the paper) what lies just behind the skin (a lining, the teeth's edges) takes the skin's deviation from `A_j`, and what still comes out in front of the skin is put back behind it | [`inside_follows`] |
 //! | §3.3 "eye balls and teeth … to their desired position" | rigid pieces (connected components any own target moves rigidly, in any mesh) kept rigid | [`rigid_parts`] |
 //! | §3.3 "moving the eyelid vertices to their closest point on the eyeball surface \[2\]" | no lid inside an eyeball (eyeballs found by their shape, [`crate::avatar::registration::eyeballs`]) | [`eyelid_repair`] |
 
@@ -43,10 +45,12 @@ pub mod closed_lids;
 pub mod crease_smoothing;
 pub mod eyelid_repair;
 pub mod face_step;
+pub mod inside_follows;
 pub mod lid_contacts;
 pub mod rigid_parts;
 pub mod stay_put;
 
+use super::head_skin::eyeball_flags;
 use super::implant_check::open_blinks;
 use super::model::Avatar;
 use super::own_shapes::{MaskOnSkin, face_part_triangles};
@@ -54,6 +58,7 @@ use super::registration::FaceRegistration;
 use super::registration::find_face::arkit_displacement;
 use super::retargeting::{NegligibleLength, RetargetError, Retargeting, mapped_shapes};
 use crate::arkit::{Blendshape, Blendshapes};
+use crate::avatar::showing_through::InsideProbe;
 use crate::geometry::dihedral_angle::Hinges;
 use crate::geometry::mesh_boundary::{EyeHole, boundary_edges};
 use crate::geometry::sparse_cholesky::FactorError;
@@ -64,6 +69,7 @@ use crease_smoothing::{CreaseSmoothing, ShapeToSmooth};
 use eyelid_repair::{Eyeball, LID_OFFSET_MM, NEAR_MM, repair_eyelids};
 use face_step::{FaceStep, FaceStepError};
 use glam::{DVec3, Vec3};
+use inside_follows::InsideFollows;
 use lid_contacts::{ClosingEyes, LidClosingError, mask_eye_holes};
 use rigid_parts::hold_rigid;
 use stay_put::{FADE_MM, STILL_MM, StillFade};
@@ -116,6 +122,12 @@ pub struct Implanted {
     pub creases_found: usize,
     /// See `creases_found`.
     pub creases_left: usize,
+    /// Vertices behind the skin that follow its deviation from `A_j`
+    /// ([`inside_follows`]).
+    pub behind_skin: usize,
+    /// Vertices behind the skin put back behind it, over all 52 shapes
+    /// ([`inside_follows::put_back`]).
+    pub put_back_behind_skin: usize,
     /// Lid vertices moved out of an eyeball, over all 52 shapes.
     pub lids_repaired: usize,
     /// Eyes closed on the avatar because the person's closed (shape, eye
@@ -183,8 +195,10 @@ pub fn implant(
     let still_faded = stay_put_step(&scene, &mapped, &mut full);
     let (creases_found, creases_left) =
         smooth_creases(&scene, (&closing, &closed_lids), personalized, &mut full);
+    let behind_skin = follow_the_skin(&scene, &mut full);
     let (rigid_pieces, rigid_deviation_removed) = hold_rigid_pieces(&scene, &mut full);
     let lids_repaired = repair_lids(&scene, &mut full);
+    let put_back_behind_skin = put_back_inside(&scene, &rigid_pieces, &mut full);
     // Invisible displacements written as zero, as for `A_j`.
     let cut = NegligibleLength::of(scene.positions.iter().copied());
     Ok(Implanted {
@@ -197,6 +211,8 @@ pub fn implant(
         still_faded,
         creases_found,
         creases_left,
+        behind_skin,
+        put_back_behind_skin,
         lids_repaired,
         lids_closed: closing.count(),
         own_lids: closed_lids.count(),
@@ -601,6 +617,22 @@ fn mask_bend(
     bend
 }
 
+/// What lies just behind the skin takes the skin's deviation from `A_j`
+/// in every shape ([`inside_follows`]); returns how many vertices follow.
+fn follow_the_skin(scene: &Scene, full: &mut [Vec<DVec3>]) -> usize {
+    let in_eyeball = eyeball_flags(scene.avatar, scene.registration);
+    let follows = InsideFollows::new(
+        &scene.positions,
+        &scene.skin_triangles,
+        |v| !scene.in_face_parts[v] && !in_eyeball[v],
+        scene.to_avatar,
+    );
+    for (made, retargeted) in full.iter_mut().zip(&scene.retargeted) {
+        follows.apply(retargeted, made);
+    }
+    follows.len()
+}
+
 /// Rigid pieces: each connected component outside the face parts that
 /// every own target moves rigidly (an eyeball; each tooth, or a
 /// teeth-and-gums arch, in a mesh that holds both jaws), held rigid in
@@ -626,6 +658,51 @@ fn hold_rigid_pieces(
         })
         .collect();
     (pieces, removed)
+}
+
+/// Nothing from behind the skin in front of it ([`inside_follows::put_back`]),
+/// shape by shape, the shapes shared out between the cores; returns the
+/// vertices put back.
+fn put_back_inside(
+    scene: &Scene,
+    pieces: &[rigid_parts::RigidPiece],
+    full: &mut [Vec<DVec3>],
+) -> usize {
+    let probe = InsideProbe::new(scene.avatar, scene.registration);
+    let mut piece_of = vec![None; scene.positions.len()];
+    for (k, piece) in pieces.iter().enumerate() {
+        for &v in &piece.vertices {
+            piece_of[v as usize] = Some(k);
+        }
+    }
+    let vertices: Vec<&[u32]> = pieces.iter().map(|p| p.vertices.as_slice()).collect();
+    let clear = inside_follows::BEHIND_MM * scene.to_avatar;
+    let put = |first: usize, shapes: &mut [Vec<DVec3>]| -> usize {
+        shapes
+            .iter_mut()
+            .enumerate()
+            .map(|(k, d)| {
+                let own = scene.own_shapes[first + k].as_deref().unwrap_or_default();
+                inside_follows::put_back(
+                    &probe,
+                    &scene.positions,
+                    (&piece_of, &vertices),
+                    own,
+                    d,
+                    clear,
+                )
+            })
+            .sum()
+    };
+    match in_parallel_chunks(full, put)
+        .into_iter()
+        .collect::<Option<Vec<usize>>>()
+    {
+        Some(counts) => counts.into_iter().sum(),
+        // A thread panicked: again on this thread, where the panic
+        // reaches the caller.
+        None => put(0, full),
+    }
 }
 
 /// No lid inside an eyeball ([`eyelid_repair`]), shape by shape, the

@@ -34,6 +34,7 @@
 
 use crate::avatar::model::Avatar;
 use crate::avatar::partial_transfer::eyelid_repair::{Eyeball, LID_OFFSET_MM, NEAR_MM};
+use crate::avatar::partial_transfer::inside_follows::{FREE_MM, HOLD_MM};
 use crate::avatar::partial_transfer::rigid_parts::{RIGID_TOLERANCE, rigid_deviation, size};
 use crate::avatar::registration::FaceRegistration;
 use crate::geometry::closest_point::TriangleTree;
@@ -53,20 +54,6 @@ pub const ANCHOR_MM: f64 = 15.0;
 /// round them. The default avatar's pieces that belong together are
 /// within 1 mm of each other; its ear and its mouth are 60 mm apart.
 pub const TOUCH_MM: f64 = 2.0;
-
-/// A vertex of a piece that bends (not an eyeball, nor a piece the
-/// avatar's own targets move only rigidly, such as teeth) within this
-/// distance of the skin (mm at the mask's scale) takes the skin's change
-/// at its closest point wholly, one beyond [`FREE_MM`] its group's; in
-/// between the two blend linearly. So the lining of a socket stays behind
-/// the lids it lines (the default avatar's socket rims lie 2.2 mm behind
-/// its lids) and an ear's root in the head: on the default avatar, the
-/// sockets following their eyeballs alone opened a see-through gap at the
-/// corners of the eyes.
-pub const HOLD_MM: f64 = 2.5;
-
-/// See [`HOLD_MM`].
-pub const FREE_MM: f64 = 8.0;
 
 /// Whether every own target (`own`, per avatar vertex) that moves the
 /// piece `vertices` moves it rigidly ([`RIGID_TOLERANCE`] of its size),

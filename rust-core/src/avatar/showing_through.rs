@@ -37,14 +37,16 @@ pub struct InsideProbe {
     /// the face's bounding sphere (the registered mask's) of parts neither
     /// skin nor eyeball that the skin hides at least half of from the
     /// front at rest (not an ear or a lash, which are meant to be seen),
-    /// as `[v, v, v]`, and each triangle of three of them, at its centre.
+    /// as `[v, v, v]`, and each triangle of three of them on a lining (a
+    /// part of no other role), at its centre: teeth, gums and tongue are
+    /// small convex pieces, looked at by their vertices.
     /// (The lining at the corners of the mouth, seen through the slit at
     /// rest, is in: stretched out over the cheek, it showed. A lining
     /// triangle whose corners lie 0.2 mm behind a folded corner of the
     /// mouth bulged through it at its centre.)
     places: Vec<[u32; 3]>,
-    /// The head's skin triangles with a corner within 1.5 of the face's
-    /// radii.
+    /// The head's skin triangles with a corner within about [`REACH_MM`]
+    /// of a place's vertex at rest.
     skin: Vec<[u32; 3]>,
     /// The face's forward direction (avatar coordinates, unit).
     forward: DVec3,
@@ -83,6 +85,32 @@ fn near_points(rest: &[DVec3], skin: &[[u32; 3]], points: &[u32], reach: f64) ->
     skin.iter()
         .copied()
         .filter(|t| t.iter().any(|&k| grid.cell(k).is_some_and(|c| near[c])))
+        .collect()
+}
+
+/// The places of `inner` (`InsideProbe::places`' docs): each vertex, and
+/// each triangle of three of them on a lining (a part of role
+/// [`PartRole::Other`]).
+fn places_of(avatar: &Avatar, found: &FaceRegistration, inner: &[u32]) -> Vec<[u32; 3]> {
+    let offsets = avatar.vertex_offsets();
+    let mut lining = vec![false; avatar.vertex_count()];
+    for (k, role) in found.roles.iter().enumerate() {
+        if let (PartRole::Other, Some((&a, &b))) = (role, offsets.get(k).zip(offsets.get(k + 1))) {
+            lining[a..b].fill(true);
+        }
+    }
+    let mut is_inner = vec![false; avatar.vertex_count()];
+    for &v in inner {
+        is_inner[v as usize] = true;
+    }
+    let on_lining = |t: &&[u32; 3]| {
+        t.iter()
+            .all(|&v| is_inner[v as usize] && lining[v as usize])
+    };
+    inner
+        .iter()
+        .map(|&v| [v; 3])
+        .chain(avatar.triangles().iter().filter(on_lining).copied())
         .collect()
 }
 
@@ -152,34 +180,7 @@ impl InsideProbe {
         let all: Vec<[u32; 3]> = skin.iter().chain(others).copied().collect();
         let mut outer = visible_from(&rest, &all, forward, VISIBILITY_PIXEL_MM * mm);
         outer.truncate(skin.len());
-        // Triangles only of the linings: teeth, gums and tongue are small
-        // convex pieces, and checked at their vertices.
-        let mut lining = vec![false; rest.len()];
-        for (k, role) in found.roles.iter().enumerate() {
-            if let (PartRole::Other, Some((&a, &b))) =
-                (role, offsets.get(k).zip(offsets.get(k + 1)))
-            {
-                lining[a..b].fill(true);
-            }
-        }
-        let mut is_inner = vec![false; rest.len()];
-        for &v in &inner {
-            is_inner[v as usize] = true;
-        }
-        let places = inner
-            .iter()
-            .map(|&v| [v; 3])
-            .chain(
-                avatar
-                    .triangles()
-                    .iter()
-                    .filter(|t| {
-                        t.iter()
-                            .all(|&v| is_inner[v as usize] && lining[v as usize])
-                    })
-                    .copied(),
-            )
-            .collect();
+        let places = places_of(avatar, found, &inner);
         InsideProbe::from_parts(rest, places, (skin, outer), forward, mm)
     }
 

@@ -26,7 +26,7 @@
 //! lip, the lining's fold at a corner of the mouth that stretches less
 //! than the avatar's), is put back behind it along the face's backward
 //! direction, [`BEHIND_MM`] clear ([`put_back`]): a rigid piece wholly,
-//! by its farthest vertex, so teeth stay whole; a lining vertex by
+//! by the farthest of its points, so teeth stay whole; a lining vertex by
 //! vertex, which dents it only where the skin hides the dent.
 
 use crate::avatar::showing_through::InsideProbe;

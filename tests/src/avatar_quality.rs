@@ -18,6 +18,7 @@
 use glam::{DVec3, Vec3};
 use likeness::Blendshape;
 use likeness::avatar::Avatar;
+use likeness::avatar::head_skin::skin_flags;
 use likeness::avatar::partial_transfer::Implanted;
 use likeness::avatar::registration::FaceRegistration;
 use likeness::avatar::registration::find_face::arkit_displacement;
@@ -128,11 +129,7 @@ pub fn figures(avatar: &Avatar, found: &FaceRegistration, implanted: &Implanted)
         Some((b, own, got))
     })
     .collect();
-    let offsets = avatar.vertex_offsets();
-    let mut face_parts = vec![false; avatar.vertex_count()];
-    for &i in &found.face_parts() {
-        face_parts[offsets[i]..offsets[i + 1]].fill(true);
-    }
+    let face_parts = skin_flags(avatar, found);
     let jaw = Blendshape::JawOpen;
     let swaps = lip_swaps(
         &own_shape(avatar, jaw),

@@ -1,6 +1,6 @@
 //! The head's skin as the checks of the output see it: its edges and
-//! triangles out of the eyeballs, which vertices are eyeballs, and the
-//! sphere round a set of vertices. Shared by the check of the output
+//! triangles out of the eyeballs, which vertices are skin and which are
+//! eyeballs, and the sphere round a set of vertices. Shared by the check of the output
 //! ([`super::implant_check`]) and the inside showing through the skin
 //! ([`super::showing_through`]).
 
@@ -33,6 +33,19 @@ pub fn head_triangles(avatar: &Avatar, found: &FaceRegistration) -> Vec<[u32; 3]
         .into_iter()
         .filter(|t| t.iter().all(|&v| !in_eyeball[v as usize]))
         .collect()
+}
+
+/// Whether each avatar vertex lies in a part the face was found on (the
+/// head's skin).
+pub fn skin_flags(avatar: &Avatar, found: &FaceRegistration) -> Vec<bool> {
+    let offsets = avatar.vertex_offsets();
+    let mut flags = vec![false; avatar.vertex_count()];
+    for &k in &found.face_parts() {
+        if let Some((&a, &b)) = offsets.get(k).zip(offsets.get(k + 1)) {
+            flags[a..b].fill(true);
+        }
+    }
+    flags
 }
 
 /// Whether each avatar vertex is in an eyeball the registration found.

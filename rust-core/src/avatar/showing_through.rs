@@ -18,7 +18,7 @@
 //! shapes too, do not count either: only a vertex the own shape keeps
 //! behind the skin can show through.
 
-use super::head_skin::{bounding_sphere, eyeball_flags, head_triangles};
+use super::head_skin::{bounding_sphere, eyeball_flags, head_triangles, skin_flags};
 use super::model::Avatar;
 use super::registration::FaceRegistration;
 use super::registration::find_face::VISIBILITY_PIXEL_MM;
@@ -134,12 +134,7 @@ impl InsideProbe {
         let (centre, radius) = bounding_sphere(&found.mask_on_avatar, &all);
         let in_eyeball = eyeball_flags(avatar, found);
         let offsets = avatar.vertex_offsets();
-        let mut on_skin = vec![false; rest.len()];
-        for &k in &found.face_parts() {
-            if let Some((&a, &b)) = offsets.get(k).zip(offsets.get(k + 1)) {
-                on_skin[a..b].fill(true);
-            }
-        }
+        let on_skin = skin_flags(avatar, found);
         let skin: Vec<[u32; 3]> = head_triangles(avatar, found)
             .into_iter()
             .filter(|t| {

@@ -50,7 +50,7 @@ pub mod lid_contacts;
 pub mod rigid_parts;
 pub mod stay_put;
 
-use super::head_skin::eyeball_flags;
+use super::head_skin::{eyeball_flags, skin_flags};
 use super::implant_check::open_blinks;
 use super::model::Avatar;
 use super::own_shapes::{MaskOnSkin, face_part_triangles};
@@ -302,13 +302,7 @@ impl<'a> Scene<'a> {
         retargeting: &Retargeting,
     ) -> Scene<'a> {
         let positions: Vec<DVec3> = avatar.positions().iter().map(|p| p.as_dvec3()).collect();
-        let offsets = avatar.vertex_offsets();
-        let mut in_face_parts = vec![false; positions.len()];
-        for &i in &registration.face_parts() {
-            if i + 1 < offsets.len() {
-                in_face_parts[offsets[i]..offsets[i + 1]].fill(true);
-            }
-        }
+        let in_face_parts = skin_flags(avatar, registration);
         Scene {
             avatar,
             registration,
@@ -677,32 +671,17 @@ fn put_back_inside(
     }
     let vertices: Vec<&[u32]> = pieces.iter().map(|p| p.vertices.as_slice()).collect();
     let clear = inside_follows::BEHIND_MM * scene.to_avatar;
-    let put = |first: usize, shapes: &mut [Vec<DVec3>]| -> usize {
-        shapes
-            .iter_mut()
-            .enumerate()
-            .map(|(k, d)| {
-                let own = scene.own_shapes[first + k].as_deref().unwrap_or_default();
-                inside_follows::put_back(
-                    &probe,
-                    &scene.positions,
-                    (&piece_of, &vertices),
-                    own,
-                    d,
-                    clear,
-                )
-            })
-            .sum()
-    };
-    match in_parallel_chunks(full, put)
-        .into_iter()
-        .collect::<Option<Vec<usize>>>()
-    {
-        Some(counts) => counts.into_iter().sum(),
-        // A thread panicked: again on this thread, where the panic
-        // reaches the caller.
-        None => put(0, full),
-    }
+    count_over_shapes(full, |j, d| {
+        let own = scene.own_shapes[j].as_deref().unwrap_or_default();
+        inside_follows::put_back(
+            &probe,
+            &scene.positions,
+            (&piece_of, &vertices),
+            own,
+            d,
+            clear,
+        )
+    })
 }
 
 /// No lid inside an eyeball ([`eyelid_repair`]), shape by shape, the
@@ -718,30 +697,39 @@ fn repair_lids(scene: &Scene, full: &mut [Vec<DVec3>]) -> usize {
     let skin: Vec<u32> = (0..positions.len() as u32)
         .filter(|&v| scene.in_face_parts[v as usize])
         .collect();
-    let repair = |first: usize, shapes: &mut [Vec<DVec3>]| -> usize {
+    count_over_shapes(full, |j, d| {
+        repair_eyelids(
+            positions,
+            scene.own_shapes[j].as_deref().unwrap_or_default(),
+            d,
+            &skin,
+            &eyeballs,
+            LID_OFFSET_MM * scene.to_avatar,
+            NEAR_MM * scene.to_avatar,
+        )
+    })
+}
+
+/// The sum over the shapes of `full` of `per_shape(j, shape j)`, the
+/// shapes shared out between the cores ([`in_parallel_chunks`]).
+fn count_over_shapes(
+    full: &mut [Vec<DVec3>],
+    per_shape: impl Fn(usize, &mut Vec<DVec3>) -> usize + Sync,
+) -> usize {
+    let run = |first: usize, shapes: &mut [Vec<DVec3>]| -> usize {
         shapes
             .iter_mut()
             .enumerate()
-            .map(|(k, d)| {
-                repair_eyelids(
-                    positions,
-                    scene.own_shapes[first + k].as_deref().unwrap_or_default(),
-                    d,
-                    &skin,
-                    &eyeballs,
-                    LID_OFFSET_MM * scene.to_avatar,
-                    NEAR_MM * scene.to_avatar,
-                )
-            })
+            .map(|(k, d)| per_shape(first + k, d))
             .sum()
     };
-    match in_parallel_chunks(full, repair)
+    match in_parallel_chunks(full, run)
         .into_iter()
         .collect::<Option<Vec<usize>>>()
     {
         Some(counts) => counts.into_iter().sum(),
         // A thread panicked: again on this thread, where the panic
         // reaches the caller.
-        None => repair(0, full),
+        None => run(0, full),
     }
 }

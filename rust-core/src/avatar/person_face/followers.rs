@@ -32,6 +32,7 @@
 //!   moved 8, and teeth and gums fitted apart parted by 5 mm, hence one
 //!   scaling and shift per group. A group no skin is near stays.
 
+use crate::avatar::head_skin::skin_flags;
 use crate::avatar::model::Avatar;
 use crate::avatar::partial_transfer::eyelid_repair::{Eyeball, LID_OFFSET_MM, NEAR_MM};
 use crate::avatar::partial_transfer::inside_follows::{FREE_MM, HOLD_MM};
@@ -94,13 +95,7 @@ pub fn follow_skin(
     to_avatar: f64,
 ) -> Vec<EyeFollowed> {
     let n = positions.len();
-    let offsets = avatar.vertex_offsets();
-    let mut on_skin = vec![false; n];
-    for &k in &registration.face_parts() {
-        if let Some(range) = offsets.get(k).zip(offsets.get(k + 1)) {
-            on_skin[*range.0..*range.1].fill(true);
-        }
-    }
+    let on_skin = skin_flags(avatar, registration);
     let skin: Vec<u32> = (0..n as u32).filter(|&v| on_skin[v as usize]).collect();
 
     // Pieces off the skin: connected components of the other triangles.

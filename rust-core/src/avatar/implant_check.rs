@@ -250,17 +250,19 @@ pub fn torn_edges(
     torn.into_iter().map(|(_, e)| e).collect()
 }
 
-/// The angle (radians) by which displacement `d` turns triangle `t`'s
-/// normal; 0 for a degenerate triangle.
-pub(crate) fn turn(rest: &[Vec3], d: &[Vec3], t: [u32; 3]) -> f64 {
+/// The cosine of the angle by which displacement `d` turns triangle `t`'s
+/// normal (1 for a degenerate triangle), clamped to [−1, 1]: compared with
+/// an angle's cosine, it says whether the turn is past the angle without an
+/// arccosine.
+fn turn_cosine(rest: &[Vec3], d: &[Vec3], t: [u32; 3]) -> f64 {
     let normal = |p: [Vec3; 3]| (p[1] - p[0]).cross(p[2] - p[0]).as_dvec3();
     let at = t.map(|v| rest[v as usize]);
     let moved = t.map(|v| rest[v as usize] + d[v as usize]);
     let (a, b) = (normal(at), normal(moved));
     if a.length_squared() == 0.0 || b.length_squared() == 0.0 {
-        return 0.0;
+        return 1.0;
     }
-    a.angle_between(b)
+    (a.dot(b) / (a.length_squared() * b.length_squared()).sqrt()).clamp(-1.0, 1.0)
 }
 
 /// The triangles of `triangles` that `got` turns past [`FOLD_ANGLE`] where
@@ -271,10 +273,12 @@ pub fn folded_triangles(
     got: &[Vec3],
     triangles: &[[u32; 3]],
 ) -> Vec<[u32; 3]> {
+    let (past, under) = (FOLD_ANGLE.cos(), OWN_FOLD_ANGLE.cos());
     let mut folded: Vec<(f64, [u32; 3])> = triangles
         .iter()
-        .map(|t| (turn(rest, got, *t), *t))
-        .filter(|(angle, t)| *angle > FOLD_ANGLE && turn(rest, own, *t) < OWN_FOLD_ANGLE)
+        .map(|t| (turn_cosine(rest, got, *t), *t))
+        .filter(|(cosine, t)| *cosine < past && turn_cosine(rest, own, *t) > under)
+        .map(|(cosine, t)| (cosine.acos(), t))
         .collect();
     folded.sort_by(|x, y| y.0.total_cmp(&x.0));
     folded.into_iter().map(|(_, t)| t).collect()

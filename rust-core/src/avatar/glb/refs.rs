@@ -74,12 +74,29 @@ fn visit(v: &mut Value, path: &[&str], f: &mut dyn FnMut(&mut Value)) {
     }
 }
 
+/// Calls `f` on every value at `path` in `v`, read only ([`visit`]).
+fn look(v: &Value, path: &[&str], f: &mut dyn FnMut(&Value)) {
+    let Some((&first, rest)) = path.split_first() else {
+        f(v);
+        return;
+    };
+    match (first, v) {
+        ("*", Value::Array(items)) => items.iter().for_each(|x| look(x, rest, f)),
+        ("*", Value::Object(map)) => map.values().for_each(|x| look(x, rest, f)),
+        (key, Value::Object(map)) => {
+            if let Some(x) = map.get(key) {
+                look(x, rest, f);
+            }
+        }
+        _ => {}
+    }
+}
+
 /// Which of `len` objects of `kind` the document refers to.
 pub(crate) fn used(doc: &Value, kind: Kind, len: usize) -> Vec<bool> {
-    let mut doc = doc.clone();
     let mut out = vec![false; len];
     for path in paths(kind) {
-        visit(&mut doc, path, &mut |v| {
+        look(doc, path, &mut |v| {
             if let Some(slot) = v.as_u64().and_then(|i| out.get_mut(i as usize)) {
                 *slot = true;
             }

@@ -41,6 +41,7 @@ use crate::avatar::registration::FaceRegistration;
 use crate::geometry::closest_point::TriangleTree;
 use crate::geometry::connected_components::component_vertices;
 use crate::geometry::inside_surface::depth;
+use crate::personalize::blendshape_fit::in_parallel_map;
 use glam::DVec3;
 use std::collections::HashSet;
 
@@ -152,10 +153,10 @@ pub fn follow_skin(
 
     // The other pieces, in groups of those that touch.
     let pieces: Vec<&Vec<u32>> = pieces.iter().filter(|c| !done[c[0] as usize]).collect();
-    let grids: Vec<TriangleTree> = pieces
-        .iter()
-        .map(|c| TriangleTree::new(positions, &avatar.triangles_within(c)))
-        .collect();
+    // The searches below are independent: over the cores.
+    let grids: Vec<TriangleTree> = in_parallel_map(pieces.len(), |i| {
+        TriangleTree::new(positions, &avatar.triangles_within(pieces[i]))
+    });
     let touch = TOUCH_MM * to_avatar;
     let mut group: Vec<usize> = (0..pieces.len()).collect();
     for a in 0..pieces.len() {
@@ -177,17 +178,18 @@ pub fn follow_skin(
     groups.dedup();
     for g in groups {
         let members: Vec<usize> = (0..pieces.len()).filter(|&i| group[i] == g).collect();
-        let near: Vec<(u32, f64)> = skin
-            .iter()
-            .filter_map(|&v| {
-                let distance = members
-                    .iter()
-                    .filter_map(|&i| grids[i].closest_within(positions[v as usize], reach))
-                    .map(|c| c.distance)
-                    .fold(f64::INFINITY, f64::min);
-                (distance <= reach).then_some((v, 1.0 - distance / reach))
-            })
-            .collect();
+        let near: Vec<(u32, f64)> = in_parallel_map(skin.len(), |k| {
+            let v = skin[k];
+            let distance = members
+                .iter()
+                .filter_map(|&i| grids[i].closest_within(positions[v as usize], reach))
+                .map(|c| c.distance)
+                .fold(f64::INFINITY, f64::min);
+            (distance <= reach).then_some((v, 1.0 - distance / reach))
+        })
+        .into_iter()
+        .flatten()
+        .collect();
         let anchors: Vec<u32> = near.iter().map(|(v, _)| *v).collect();
         let Some(fit) = carried(positions, field, &anchors, |i| near[i].1) else {
             continue;
@@ -203,21 +205,28 @@ pub fn follow_skin(
     let grid = TriangleTree::new(positions, &skin_triangles);
     let (hold, free) = (HOLD_MM * to_avatar, FREE_MM * to_avatar);
     let own = avatar.moving_target_displacements();
-    for piece in &all_pieces {
-        if piece.iter().any(|v| in_eyeball.contains(v)) || moves_rigidly(positions, &own, piece) {
-            continue;
-        }
-        for &v in piece {
-            let v = v as usize;
-            let Some(c) = grid.closest_within(positions[v], free) else {
-                continue;
-            };
-            let t = grid.triangles()[c.triangle];
-            let on: DVec3 = (0..3)
-                .map(|k| field[t[k] as usize] * c.barycentric[k])
-                .sum();
-            let own = ((c.distance - hold) / (free - hold)).clamp(0.0, 1.0);
-            field[v] = field[v] * own + on * (1.0 - own);
+    // Each vertex reads only the skin's field, which none of them is.
+    let bending: Vec<u32> = all_pieces
+        .iter()
+        .filter(|piece| {
+            !piece.iter().any(|v| in_eyeball.contains(v)) && !moves_rigidly(positions, &own, piece)
+        })
+        .flatten()
+        .copied()
+        .collect();
+    let followed = in_parallel_map(bending.len(), |k| {
+        let v = bending[k] as usize;
+        let c = grid.closest_within(positions[v], free)?;
+        let t = grid.triangles()[c.triangle];
+        let on: DVec3 = (0..3)
+            .map(|k| field[t[k] as usize] * c.barycentric[k])
+            .sum();
+        let own = ((c.distance - hold) / (free - hold)).clamp(0.0, 1.0);
+        Some(field[v] * own + on * (1.0 - own))
+    });
+    for (&v, moved) in bending.iter().zip(followed) {
+        if let Some(moved) = moved {
+            field[v as usize] = moved;
         }
     }
     eyes

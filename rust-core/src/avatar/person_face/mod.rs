@@ -275,8 +275,15 @@ pub fn skin_change(
         .map(|(_, _, d)| d.length())
         .fold(0.0, f64::max)
         / to_avatar;
-    let ties = touching_pairs(&positions, &triangles, TOUCH_MM * to_avatar);
-    let rows = laplace_beltrami_rows(&positions, &triangles);
+    // Two independent passes over the skin, one on each core.
+    let (ties, rows) = std::thread::scope(|scope| {
+        let ties = scope.spawn(|| touching_pairs(&positions, &triangles, TOUCH_MM * to_avatar));
+        let rows = laplace_beltrami_rows(&positions, &triangles);
+        (
+            ties.join().unwrap_or_else(|e| std::panic::resume_unwind(e)),
+            rows,
+        )
+    });
     let system = RestSystem::new(n, &rows, &region, &ties);
     let start = system
         .rest_field(&wanted_changes, START_WEIGHT)

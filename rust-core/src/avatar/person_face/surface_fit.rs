@@ -57,6 +57,7 @@ use crate::avatar::registration::find_face::FACE_TOLERANCE_MM;
 use crate::avatar::registration::nonrigid::vertex_normals;
 use crate::geometry::closest_point::TriangleTree;
 use crate::geometry::mesh_boundary::{boundary_edges, on_boundary};
+use crate::personalize::blendshape_fit::in_parallel_map;
 use glam::DVec3;
 use std::collections::HashSet;
 
@@ -142,22 +143,20 @@ pub fn fit_to_scan(
     // registration's face tolerance (not over the mask) or over its rim.
     let registered = TriangleTree::new(scan.registered, scan.triangles);
     let on_mask = FACE_TOLERANCE_MM * to_avatar;
-    let height: Vec<Option<f64>> = (0..n)
-        .map(|v| {
-            if !skin.face[v] {
-                return None;
-            }
-            let c = registered.closest_within(skin.positions[v], on_mask)?;
-            let inside = !on_boundary(
-                scan.triangles[c.triangle],
-                c.barycentric,
-                &rim,
-                &rim_vertices,
-            );
-            inside
-                .then(|| (skin.positions[v] - c.point).dot(registered.triangle_normal(c.triangle)))
-        })
-        .collect();
+    // The searches are independent: over the cores, here and below.
+    let height: Vec<Option<f64>> = in_parallel_map(n, |v| {
+        if !skin.face[v] {
+            return None;
+        }
+        let c = registered.closest_within(skin.positions[v], on_mask)?;
+        let inside = !on_boundary(
+            scan.triangles[c.triangle],
+            c.barycentric,
+            &rim,
+            &rim_vertices,
+        );
+        inside.then(|| (skin.positions[v] - c.point).dot(registered.triangle_normal(c.triangle)))
+    });
     let mut field = start;
     let mut asked = 0.0;
     for _ in 0..ROUNDS {
@@ -165,12 +164,9 @@ pub fn fit_to_scan(
             .map(|(p, u)| *p + *u)
             .collect();
         let normals = vertex_normals(&now, skin.triangles);
-        let mut wanted: Vec<PointChange> = Vec::new();
-        for v in 0..n {
-            let Some(h) = height[v] else { continue };
-            let Some(c) = surface.closest_within(now[v], reach) else {
-                continue;
-            };
+        let asks = |v: usize| -> Option<PointChange> {
+            let h = height[v]?;
+            let c = surface.closest_within(now[v], reach)?;
             let normal = surface.triangle_normal(c.triangle);
             if on_boundary(
                 scan.triangles[c.triangle],
@@ -179,12 +175,12 @@ pub fn fit_to_scan(
                 &rim_vertices,
             ) || normals[v].dot(normal) < FACING
             {
-                continue;
+                return None;
             }
             let target = c.point + normal * h;
-            let v = v as u32;
-            wanted.push(([v; 3], [1.0, 0.0, 0.0], target - skin.positions[v as usize]));
-        }
+            Some(([v as u32; 3], [1.0, 0.0, 0.0], target - skin.positions[v]))
+        };
+        let mut wanted: Vec<PointChange> = in_parallel_map(n, asks).into_iter().flatten().collect();
         let on_skin = TriangleTree::new(&now, skin.triangles);
         for &(i, h) in scan.pulling {
             let q = scan.positions[i as usize] + scan_normals[i as usize] * h;

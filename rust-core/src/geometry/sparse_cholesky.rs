@@ -6,11 +6,12 @@
 //! Each builds the lower triangle of a symmetric positive definite `n × n`
 //! matrix as triplets (duplicates are summed) and factors it once; a solve
 //! is then two triangular sweeps per right-hand side. Where the values
-//! change but the sparsity does not (the registration's steps), the
-//! pattern is analysed once ([`FixedPattern`]): where each entry's value
-//! goes and the symbolic factorization; each new set of values is then
-//! only summed into place and factored numerically, into storage kept
-//! from one factorization to the next ([`FactorWork`]).
+//! change but the sparsity does not (the registration's steps, the
+//! person's rest field's solves), the pattern is analysed once
+//! ([`FixedPattern`]): where each entry's value goes and the symbolic
+//! factorization; each new set of values is then only summed into place
+//! and factored numerically, into storage kept from one factorization to
+//! the next ([`FactorWork`]).
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::sparse::linalg::cholesky::{
@@ -152,15 +153,42 @@ impl FixedPattern {
                 self.place.len()
             )));
         }
+        work.matrix.fill(0.0);
+        for (&k, &x) in self.place.iter().zip(values) {
+            work.matrix[k] += x;
+        }
+        self.numeric(work)
+    }
+
+    /// `L Lᵀ` of the matrix whose lower triangle is `entries` (duplicates
+    /// summed, as [`factor`] sums them: the same matrix to the bit), in
+    /// `work`; an error if its pattern is not this one. Only the symbolic
+    /// analysis is saved, not the matrix's assembly.
+    pub fn factor_entries<'a>(
+        &'a self,
+        entries: &[Triplet<usize, usize, f64>],
+        work: &'a mut FactorWork,
+    ) -> Result<FixedFactor<'a>, FactorError> {
+        let n = self.structure.ncols();
+        let a = matrix(n, entries)?;
+        if a.symbolic().col_ptr() != self.structure.col_ptr()
+            || a.symbolic().row_idx() != self.structure.row_idx()
+        {
+            return Err(FactorError::Entries(
+                "the entries' pattern is not the one analysed".into(),
+            ));
+        }
+        work.matrix.copy_from_slice(a.val());
+        self.numeric(work)
+    }
+
+    /// The numeric factorization of the values in `work`.
+    fn numeric<'a>(&'a self, work: &'a mut FactorWork) -> Result<FixedFactor<'a>, FactorError> {
         let FactorWork {
             matrix,
             factor,
             scratch,
         } = work;
-        matrix.fill(0.0);
-        for (&k, &x) in self.place.iter().zip(values) {
-            matrix[k] += x;
-        }
         let a = SparseColMatRef::new(self.structure.as_ref(), matrix);
         let llt = self
             .symbolic
@@ -252,5 +280,32 @@ mod tests {
         ));
         let outside = vec![Triplet::new(7, 0, 1.0)];
         assert!(matches!(factor(4, &outside), Err(FactorError::Entries(_))));
+    }
+
+    /// Entries in another order, with other duplicates, but the same
+    /// pattern: the same factor as [`factor`]'s, to the bit; a pattern
+    /// with an entry more is refused.
+    #[test]
+    fn entries_of_the_same_pattern_factor_as_a_new_matrix_would() {
+        let n = 6;
+        let pattern = FixedPattern::new(n, &tridiagonal(n, 4.0)).unwrap();
+        let mut work = pattern.work(1);
+        let mut entries = tridiagonal(n, 3.0);
+        entries.reverse();
+        entries.extend((0..n).map(|i| Triplet::new(i, i, 0.1 * i as f64)));
+        entries.push(Triplet::new(3, 2, -0.25));
+        let rhs = || Mat::<f64>::from_fn(n, 1, |i, _| (i as f64).sin() + 1.0);
+        let (mut x, mut y) = (rhs(), rhs());
+        factor(n, &entries).unwrap().solve_in_place(&mut x);
+        let mut fixed = pattern.factor_entries(&entries, &mut work).unwrap();
+        fixed.solve_in_place(y.as_mut());
+        for i in 0..n {
+            assert_eq!(x[(i, 0)].to_bits(), y[(i, 0)].to_bits(), "{i}");
+        }
+        entries.push(Triplet::new(5, 0, 0.01));
+        assert!(matches!(
+            pattern.factor_entries(&entries, &mut work),
+            Err(FactorError::Entries(_))
+        ));
     }
 }

@@ -284,7 +284,7 @@ pub fn skin_change(
             rows,
         )
     });
-    let system = RestSystem::new(n, &rows, &region, &ties);
+    let system = RestSystem::new(n, &rows, &region, &ties).map_err(|_| TakeFaceError::Unsolved)?;
     let start = system
         .rest_field(&wanted_changes, START_WEIGHT)
         .ok_or(TakeFaceError::Unsolved)?;

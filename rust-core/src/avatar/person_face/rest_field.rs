@@ -37,7 +37,7 @@
 use crate::geometry::connected_components::component_vertices;
 use crate::geometry::laplacian::normal_lower;
 use crate::geometry::self_intersection::intersecting_pairs;
-use crate::geometry::sparse_cholesky;
+use crate::geometry::sparse_cholesky::{self, FactorError, FixedPattern};
 use faer::Mat;
 use faer::linalg::solvers::Solve;
 use faer::sparse::Triplet;
@@ -129,13 +129,24 @@ pub struct RestSystem {
     diagonal: f64,
     /// The ties' entries, at [`TIE_WEIGHT`].
     tied: Vec<Triplet<usize, usize, f64>>,
+    /// The pattern of the bending energy and the ties, which holds every
+    /// point's entries too (a point's corners are a skin triangle's, each
+    /// pair of them an edge, which the Laplacian's rows hold), analysed
+    /// once for every solve.
+    pattern: FixedPattern,
 }
 
 impl RestSystem {
     /// The system over the skin whose Laplace–Beltrami rows are `skin`
     /// (`n` avatar vertices), `region` saying which vertices are in `R`,
-    /// `ties` the pairs that move as one.
-    pub fn new(n: usize, skin: &SkinRows, region: &[bool], ties: &[(u32, u32)]) -> RestSystem {
+    /// `ties` the pairs that move as one; an error if its pattern cannot
+    /// be analysed.
+    pub fn new(
+        n: usize,
+        skin: &SkinRows,
+        region: &[bool],
+        ties: &[(u32, u32)],
+    ) -> Result<RestSystem, FactorError> {
         let inside: Vec<u32> = (0..n as u32)
             .filter(|&v| region.get(v as usize) == Some(&true) && skin.contains_key(&v))
             .collect();
@@ -170,14 +181,17 @@ impl RestSystem {
             tied.push(Triplet::new(j, j, tie));
             tied.push(Triplet::new(i.max(j), i.min(j), -tie));
         }
-        RestSystem {
+        let fixed: Vec<Triplet<usize, usize, f64>> = bending.iter().chain(&tied).copied().collect();
+        let pattern = FixedPattern::new(inside.len(), &fixed)?;
+        Ok(RestSystem {
             n,
             inside,
             local,
             bending,
             diagonal,
             tied,
-        }
+            pattern,
+        })
     }
 
     /// The change `u` of every avatar vertex (module docs) through
@@ -206,8 +220,17 @@ impl RestSystem {
             }
         }
         entries.extend_from_slice(&self.tied);
-        let llt = sparse_cholesky::factor(m, &entries).ok()?;
-        llt.solve_in_place(&mut rhs);
+        let mut work = self.pattern.work(3);
+        match self.pattern.factor_entries(&entries, &mut work) {
+            Ok(mut llt) => llt.solve_in_place(rhs.as_mut()),
+            // A pattern the system did not foresee: analysed afresh.
+            Err(FactorError::Entries(_)) => {
+                sparse_cholesky::factor(m, &entries)
+                    .ok()?
+                    .solve_in_place(&mut rhs);
+            }
+            Err(_) => return None,
+        }
         let mut u = vec![DVec3::ZERO; self.n];
         for (i, &v) in self.inside.iter().enumerate() {
             u[v as usize] = DVec3::new(rhs[(i, 0)], rhs[(i, 1)], rhs[(i, 2)]);

@@ -27,27 +27,28 @@ use likeness::avatar::Avatar;
 use likeness::avatar::glb::read_avatar_bytes;
 use likeness::avatar::implant_check::head_triangles;
 use likeness::avatar::own_shapes::{face_part_triangles, skin_points};
-use likeness::avatar::person_face::{TakenFace, take_face};
+use likeness::avatar::person_face::{TakenFace, mean_and_p95, take_face};
 use likeness::avatar::registration::find_face::FACE_TOLERANCE_MM;
 use likeness::avatar::registration::{FaceRegistration, find_face};
 use likeness::avatar::rest_check::{creased_edges, scan_bend};
 use likeness::geometry::closest_point::TriangleTree;
-use likeness::geometry::connected_components::components;
-use likeness::geometry::mesh_boundary::boundary_edges;
+use likeness::geometry::mesh_boundary::{BoundaryError, boundary_loops};
+use likeness::geometry::topology::Topology;
 use likeness_sim::arkit_face::shared_arkit_face;
 use likeness_sim::face_basis::FaceBasis;
 use likeness_tests::arkit_people::{ArkitPerson, study_seeds};
 
 /// The scan's distance from the new skin (mm at the mask's scale), mean
-/// and 95th percentile as the product takes them (`TakenFace`), over the
-/// mask vertices on the skin that are on no hole's rim: every boundary
-/// loop but the longest (the outline).
+/// and 95th percentile as the product takes them
+/// ([`likeness::avatar::person_face::mean_and_p95`]), over the mask
+/// vertices on the skin that are on no hole's rim: every boundary loop of
+/// `mask` but the longest (the outline).
 fn away_from_holes(
     avatar: &Avatar,
     found: &FaceRegistration,
-    taken: &TakenFace,
-    neutral: &[DVec3],
-) -> (f64, f64) {
+    (taken, neutral): (&TakenFace, &[DVec3]),
+    mask: &Topology,
+) -> Result<(f64, f64), BoundaryError> {
     let stock: Vec<DVec3> = avatar.positions().iter().map(|p| p.as_dvec3()).collect();
     let new: Vec<DVec3> = stock
         .iter()
@@ -57,36 +58,21 @@ fn away_from_holes(
     let triangles = face_part_triangles(avatar, found);
     let to_avatar = found.similarity.scale / 1e3;
     let on_skin = skin_points(found, &stock, &triangles, FACE_TOLERANCE_MM * to_avatar);
-    let mask = &found.map.mask_triangles;
-    let rims: Vec<(u32, u32)> = boundary_edges(mask).into_iter().collect();
-    let as_triangles: Vec<[u32; 3]> = rims.iter().map(|&(a, b)| [a, b, b]).collect();
-    let (loop_of, loops) = components(neutral.len(), &as_triangles);
-    let mut size = vec![0usize; loops];
-    for &(a, b) in &rims {
-        size[loop_of[a as usize] as usize] += 1;
-        size[loop_of[b as usize] as usize] += 1;
-    }
-    let outline = (0..loops).max_by_key(|&k| size[k]);
+    let mut loops = boundary_loops(mask)?;
+    loops.sort_by_key(Vec::len);
+    loops.pop();
     let mut on_hole = vec![false; neutral.len()];
-    for &(a, b) in &rims {
-        for v in [a, b] {
-            on_hole[v as usize] = Some(loop_of[v as usize] as usize) != outline;
-        }
+    for &v in loops.iter().flatten() {
+        on_hole[v as usize] = true;
     }
     let skin = TriangleTree::new(&new, &triangles);
-    let mut far: Vec<f64> = (0..neutral.len())
+    let far: Vec<f64> = (0..neutral.len())
         .filter(|&i| on_skin[i].is_some() && !on_hole[i])
         .filter_map(|i| {
             Some(skin.closest(found.similarity.apply(neutral[i]))?.distance / to_avatar)
         })
         .collect();
-    far.sort_by(f64::total_cmp);
-    let mean = far.iter().sum::<f64>() / far.len().max(1) as f64;
-    let p95 = far
-        .get((far.len() * 95 / 100).min(far.len().saturating_sub(1)))
-        .copied()
-        .unwrap_or(0.0);
-    (mean, p95)
+    Ok(mean_and_p95(far))
 }
 
 /// How many head edges the new rest turns past
@@ -219,7 +205,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 let dir = std::path::Path::new(&dir).join(format!("{}-{seed}", basis.name()));
                 dump(&dir, &glb.avatar, &found, &taken, neutral, &edges)?;
             }
-            let (away_mean, away_p95) = away_from_holes(&glb.avatar, &found, &taken, neutral);
+            let (away_mean, away_p95) =
+                away_from_holes(&glb.avatar, &found, (&taken, neutral), &session.topology)?;
             println!(
                 "{} {seed}: eyes {:?}; scan to skin {:.3} mm mean, {:.2} mm p95 ({away_mean:.3}, {away_p95:.2} away from the holes' rims); points {:.3} mm mean, {:.2} mm max, {} left out; largest change {:.1} mm; {:.2} s; creased edges {creased}, {beyond} past the scan's own bend",
                 basis.name(),

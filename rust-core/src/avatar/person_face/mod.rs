@@ -349,6 +349,19 @@ pub fn skin_change(
     })
 }
 
+/// The mean of `values` and their 95th percentile (the value 95% of the
+/// way up the sorted list): the face match's two figures
+/// ([`TakenFace::surface_mean_mm`]); zeros for none.
+pub fn mean_and_p95(mut values: Vec<f64>) -> (f64, f64) {
+    values.sort_by(f64::total_cmp);
+    let mean = values.iter().sum::<f64>() / values.len().max(1) as f64;
+    let p95 = values
+        .get((values.len() * 95 / 100).min(values.len().saturating_sub(1)))
+        .copied()
+        .unwrap_or(0.0);
+    (mean, p95)
+}
+
 /// `field` at a mask vertex's point on the skin (its triangle's corners
 /// and barycentrics), if it has one.
 fn at(point: &Option<([u32; 3], [f64; 3])>, field: &[DVec3]) -> Option<DVec3> {
@@ -398,16 +411,11 @@ impl SkinChange {
         // How far the scanned face is from the new skin, wherever the mask
         // lies on the skin (left out or not): the face a user compares.
         let new_skin = TriangleTree::new(&new_positions, &triangles);
-        let mut surface: Vec<f64> = (0..points.len())
+        let surface: Vec<f64> = (0..points.len())
             .filter(|i| points[*i].is_some())
             .filter_map(|i| Some(new_skin.closest(wanted[i])?.distance / to_avatar))
             .collect();
-        surface.sort_by(f64::total_cmp);
-        let surface_mean_mm = surface.iter().sum::<f64>() / surface.len().max(1) as f64;
-        let surface_p95_mm = surface
-            .get((surface.len() * 95 / 100).min(surface.len().saturating_sub(1)))
-            .copied()
-            .unwrap_or(0.0);
+        let (surface_mean_mm, surface_p95_mm) = mean_and_p95(surface);
         let largest = field.iter().map(|u| u.length()).fold(0.0, f64::max) / to_avatar;
         Ok(TakenFace {
             asked_largest_mm,

@@ -327,6 +327,7 @@ pub fn avatar_command(args: &AvatarArgs) -> CliResult {
         morph_targets: retargeting.targets.len(),
         arkit_found: made.found.found(),
         arkit_missing: made.found.missing().iter().map(|b| b.name()).collect(),
+        arkit_passed_over: made.found.passed_over().iter().map(Into::into).collect(),
         face_vertices: registration.map.face.len(),
         parts: avatar
             .parts()

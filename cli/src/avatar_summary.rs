@@ -1,8 +1,36 @@
 //! What `likeness avatar` reports: the summary `--json` prints, and the
 //! same read aloud on the terminal.
 
+use likeness::avatar::target_names::PassedOver;
 use serde::Serialize;
 use std::path::Path;
+
+/// A target passed over for another of the same ARKit shape.
+#[derive(Serialize)]
+pub(crate) struct PassedOverSummary {
+    pub(crate) mesh: usize,
+    pub(crate) target: usize,
+    pub(crate) name: String,
+    pub(crate) shape: &'static str,
+    /// The target taken instead (index within the mesh) and its name.
+    pub(crate) taken_target: usize,
+    pub(crate) taken_name: String,
+    pub(crate) why: String,
+}
+
+impl From<&PassedOver> for PassedOverSummary {
+    fn from(p: &PassedOver) -> Self {
+        PassedOverSummary {
+            mesh: p.mesh,
+            target: p.target.0,
+            name: p.target.1.clone(),
+            shape: p.shape.name(),
+            taken_target: p.taken.0,
+            taken_name: p.taken.1.clone(),
+            why: p.why.to_string(),
+        }
+    }
+}
 
 /// The summary `--json` prints.
 #[derive(Serialize)]
@@ -16,6 +44,9 @@ pub(crate) struct Summary {
     pub(crate) morph_targets: usize,
     pub(crate) arkit_found: usize,
     pub(crate) arkit_missing: Vec<&'static str>,
+    /// Targets whose names read as an ARKit shape that another target on
+    /// their mesh carries instead, and why (`target_names::PassedOver`).
+    pub(crate) arkit_passed_over: Vec<PassedOverSummary>,
     pub(crate) face_vertices: usize,
     /// Each part of the avatar and what it was found to be.
     pub(crate) parts: Vec<PartSummary>,
@@ -180,6 +211,12 @@ pub(crate) fn print_summary(s: &Summary) {
             format!(" (missing: {})", s.arkit_missing.join(", "))
         }
     );
+    for p in &s.arkit_passed_over {
+        println!(
+            "  Not taken: mesh {} target {} {:?} reads as {}, but {:?} (target {}) is: {}",
+            p.mesh, p.target, p.name, p.shape, p.taken_name, p.taken_target, p.why
+        );
+    }
     println!(
         "Face found: {} face vertices, registration residual mean {:.3} mm, max {:.3} mm{}",
         s.face_vertices,

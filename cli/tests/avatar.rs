@@ -372,3 +372,65 @@ fn a_compressed_avatar_is_personalized_and_written_back_plain() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Two targets on one mesh that read as the same ARKit shape: the one
+/// with ARKit's plain name is taken, and `--json` and the summary say which
+/// was passed over and why.
+#[test]
+fn a_shape_named_twice_says_which_target_was_taken() {
+    use likeness_sim::{avatar_variants::avatar_variants, glb_edit::Glb};
+    let dir = scratch("named-twice");
+    let vendor = avatar_variants()
+        .into_iter()
+        .find(|v| v.name == "vendor-export")
+        .expect("listed");
+    let mut edited = Glb::parse(&vendor.glb);
+    let names = &mut edited.json["meshes"][0]["extras"]["targetNames"];
+    let close = names
+        .as_array()
+        .unwrap()
+        .iter()
+        .position(|n| n == "AK_19_MouthClose")
+        .expect("the head's mouthClose");
+    names[close] = serde_json::json!("mouthFunnel");
+    let avatar = dir.join("named-twice.glb");
+    std::fs::write(&avatar, edited.to_bytes()).unwrap();
+    let session = likeness_tests::committed::path(1);
+    let run = |json: bool| {
+        let (glb, cache) = (dir.join("x.glb"), dir.join("cache"));
+        let mut args = vec![
+            "avatar".to_string(),
+            s(&session),
+            "--avatar".into(),
+            s(&avatar),
+            "--out".into(),
+            s(&glb),
+            "--cache-dir".into(),
+            s(&cache),
+        ];
+        args.extend(json.then(|| "--json".to_string()));
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let out = likeness(&args);
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        out
+    };
+    let v: serde_json::Value = serde_json::from_slice(&run(true).stdout).expect("JSON");
+    let passed = v["arkit_passed_over"].as_array().expect("a list");
+    assert_eq!(passed.len(), 1, "{v}");
+    assert_eq!(passed[0]["name"], "AK_20_MouthFunnel");
+    assert_eq!(passed[0]["shape"], "mouthFunnel");
+    assert_eq!(passed[0]["taken_name"], "mouthFunnel");
+    assert_eq!(passed[0]["mesh"], 0);
+    assert!(
+        passed[0]["why"]
+            .as_str()
+            .unwrap()
+            .contains("without a prefix")
+    );
+    let said = text(&run(false).stdout);
+    assert!(
+        said.contains("Not taken: mesh 0 target 19 \"AK_20_MouthFunnel\" reads as mouthFunnel, but \"mouthFunnel\" (target 18) is"),
+        "{said}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -15,6 +15,7 @@ pub mod envelope;
 pub mod face_basis;
 pub mod face_mask;
 pub mod face_model;
+pub mod glb_edit;
 pub mod grid_avatar;
 pub mod performance;
 pub mod real_takes;

@@ -1,6 +1,6 @@
 """Opens a GLB in Blender (as the `bpy` module, headless) and checks what an
 artist would see: the meshes, their shape keys in ARKit's exact spelling,
-and that every key moves something. With --render DIR it also renders the
+that every key moves something, and that every image opens. With --render DIR it also renders the
 head at a few keys to PNGs, for looking at (never committed).
 
     python3 tests/python/blender_glb.py FILE.glb [--keys 52] [--render DIR]
@@ -62,6 +62,12 @@ def main():
         for n in names:
             if n not in ARKIT:
                 report["problems"].append(f"{o.name}: shape key {n!r} is not in ARKit's spelling")
+    # Every image the file has opens (a WebP or PNG Blender cannot read
+    # comes in with no pixels).
+    report["images"] = [{"name": i.name, "size": list(i.size)} for i in bpy.data.images]
+    for i in bpy.data.images:
+        if i.size[0] == 0 or i.size[1] == 0:
+            report["problems"].append(f"image {i.name!r} did not open")
     missing = [n for n in ARKIT if n not in arkit_keys]
     report["arkit_keys"] = len(arkit_keys)
     if len(arkit_keys) < args.keys:

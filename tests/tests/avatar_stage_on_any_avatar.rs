@@ -243,3 +243,79 @@ fn the_makehuman_body_is_found_and_its_lids_stay_out_of_its_open_eyes() {
     let faults: Vec<String> = made.faults().map(|f| f.to_string()).collect();
     assert!(faults.is_empty(), "{faults:?}");
 }
+
+/// Targets named as vendors name them (`AK_18_JawOpen`,
+/// `A05_Eye_Look_Up_Left`, `blendShape3.eyeBlink_L`) on the default
+/// avatar's geometry, Draco-compressed, its skin a WebP texture: the same
+/// 52 shapes made, to the bit, as on the default avatar, each written
+/// under ARKit's name, in a file without Draco whose texture, image and
+/// texture extensions are the input's, which the validator takes.
+#[test]
+fn a_vendors_export_makes_the_default_avatars_shapes() {
+    use likeness::arkit::Blendshape;
+    use likeness::avatar::target_names::arkit_targets;
+    let default = likeness_sim::default_avatar::default_avatar_glb().expect("builds");
+    let vendor = avatar_variants()
+        .into_iter()
+        .find(|v| v.name == "vendor-export")
+        .expect("listed");
+    let input = likeness_sim::glb_edit::Glb::parse(&vendor.glb).json;
+    let mut written = Vec::new();
+    let [on_default, on_vendor] = [default, vendor.glb].map(|bytes| {
+        let glb = read_avatar_bytes(&bytes, "avatar").expect("reads");
+        let made = likeness_tests::committed::personal_avatar_of(1, &glb).expect("made");
+        assert!(made.found.passed_over().is_empty());
+        written = made.glb.clone();
+        read_avatar_bytes(&made.glb, "written").expect("the output reads")
+    });
+    let out = on_vendor.json();
+    for key in ["textures", "samplers"] {
+        assert_eq!(out[key], input[key], "{key}");
+    }
+    let file = likeness_sim::glb_edit::Glb::parse(&written);
+    let image = &file.json["images"][0];
+    assert_eq!(image["mimeType"], "image/webp");
+    let view = &file.json["bufferViews"][image["bufferView"].as_u64().unwrap() as usize];
+    let at = view["byteOffset"].as_u64().unwrap_or(0) as usize;
+    let webp = likeness_sim::avatar_variants::vendor_export::SKIN_WEBP;
+    assert_eq!(file.bin[at..at + webp.len()], webp, "the image's bytes");
+    assert_eq!(
+        out["extensionsRequired"],
+        serde_json::json!(["EXT_texture_webp"])
+    );
+    let used = out["extensionsUsed"].as_array().unwrap();
+    assert!(
+        used.contains(&serde_json::json!("KHR_texture_transform")),
+        "{used:?}"
+    );
+    assert!(
+        !used.contains(&serde_json::json!("KHR_draco_mesh_compression")),
+        "{used:?}"
+    );
+    let dir = std::env::temp_dir().join(format!("likeness-vendor-export-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("written.glb");
+    std::fs::write(&path, &written).unwrap();
+    let reports = likeness_tests::gltf_validator::validate("vendor_export", &[path]);
+    std::fs::remove_dir_all(&dir).unwrap();
+    if let Some(reports) = reports {
+        let issues = &reports[0]["issues"];
+        assert_eq!(issues["numErrors"], 0, "{issues}");
+        assert_eq!(issues["numWarnings"], 0, "{issues}");
+    }
+    let (a, b) = (&on_default.avatar, &on_vendor.avatar);
+    let (ta, tb) = (arkit_targets(a), arkit_targets(b));
+    for shape in Blendshape::ALL {
+        assert_eq!(ta.of(shape), tb.of(shape), "{shape}");
+        assert!(!tb.of(shape).is_empty(), "{shape}");
+        let (da, db) = (
+            a.summed_displacement(ta.of(shape)),
+            b.summed_displacement(tb.of(shape)),
+        );
+        let differ = da.iter().zip(&db).filter(|(x, y)| x != y).count();
+        assert_eq!(differ, 0, "{shape}: {differ} vertices move otherwise");
+        for &(m, t) in tb.of(shape) {
+            assert_eq!(b.meshes()[m].target_names[t], shape.name(), "{shape}");
+        }
+    }
+}

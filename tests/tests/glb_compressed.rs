@@ -4,8 +4,7 @@
 //! transform, normals as normalized BYTE through the octahedral filter,
 //! everything in `EXT_meshopt_compression` views) reads back as the same
 //! geometry within the quantization step; what is written back from it is
-//! plain glTF 2.0 the Khronos validator takes; Draco is refused with
-//! advice; a corrupt stream is a typed error, never a panic.
+//! plain glTF 2.0 the Khronos validator takes; a corrupt stream is a typed error, never a panic.
 //!
 //! Tolerance: a mesh stores each coordinate in steps of `s / 32767`, `s`
 //! its dequantization scale (half its bounding box's longest side, or the
@@ -252,25 +251,6 @@ fn with_json(glb: &[u8], f: impl FnOnce(&mut Value)) -> Vec<u8> {
     out.extend_from_slice(&text);
     out.extend_from_slice(bin);
     out
-}
-
-#[test]
-fn draco_is_refused_with_advice() {
-    let (plain, _) = plain_and_compressed();
-    let draco = with_json(&plain, |doc| {
-        doc["extensionsUsed"] = json!(["KHR_draco_mesh_compression"]);
-        doc["extensionsRequired"] = json!(["KHR_draco_mesh_compression"]);
-    });
-    let e = read_avatar_bytes(&draco, "draco.glb").unwrap_err();
-    assert!(
-        matches!(&e, GlbError::Unsupported { extension, .. } if extension == "KHR_draco_mesh_compression"),
-        "{e:?}"
-    );
-    let message = e.to_string();
-    assert!(
-        message.contains("gltf-transform") && message.contains("without Draco"),
-        "{message}"
-    );
 }
 
 #[test]

@@ -13,6 +13,7 @@ use likeness::Blendshape;
 use likeness::avatar::partial_transfer::{Implanted, implant};
 use likeness::avatar::registration::{FaceRegistration, find_face};
 use likeness::avatar::retargeting::retarget;
+use likeness::avatar::target_names::arkit_targets;
 use likeness_sim::default_avatar::default_avatar;
 use likeness_sim::face_mask::face_mask;
 
@@ -54,7 +55,7 @@ fn the_template_implanted_gives_back_the_avatars_own_shapes() {
     );
     assert!(implanted.adjacent_vertices > 1000);
     for shape in Blendshape::ALL {
-        let own = avatar.named_displacement(shape.name());
+        let own = arkit_targets(&avatar).displacement(&avatar, shape);
         let got = &implanted.shapes[shape.index()];
         let reach = own.iter().map(|d| d.length()).fold(0.0, f32::max);
         let worst = got

@@ -21,6 +21,9 @@ struct Facts {
     /// How closely the rest face follows the person's scanned neutral (mm,
     /// mean and largest), when the avatar took the person's face.
     own_face: Option<(f64, f64)>,
+    /// Targets whose names read as an ARKit shape another target carries
+    /// (`target_names::PassedOver`, in words).
+    passed_over: Vec<String>,
     glb_bytes: usize,
 }
 
@@ -43,6 +46,12 @@ pub fn avatar_summary(glb: &GlbAvatar, made: &PersonalAvatar) -> String {
             .taken_face
             .as_ref()
             .map(|t| (t.surface_mean_mm, t.surface_p95_mm)),
+        passed_over: made
+            .found
+            .passed_over()
+            .iter()
+            .map(|p| p.to_string())
+            .collect(),
         glb_bytes: made.glb.len(),
     };
     describe(&facts)
@@ -69,8 +78,15 @@ fn describe(f: &Facts) -> String {
         ),
         None => "It keeps its own face at rest. ".to_string(),
     };
+    let names = match f.passed_over.as_slice() {
+        [] => String::new(),
+        passed => format!(
+            " Not taken, though named for an ARKit shape: {}.",
+            passed.join("; ")
+        ),
+    };
     format!(
-        "{}: {} vertices in {} meshes, {} of ARKit's 52 shapes. Face found on {} vertices (fit within {:.2} mm on average, {:.2} mm at most). {face}{shapes} GLB: {:.1} MB.",
+        "{}: {} vertices in {} meshes, {} of ARKit's 52 shapes.{names} Face found on {} vertices (fit within {:.2} mm on average, {:.2} mm at most). {face}{shapes} GLB: {:.1} MB.",
         f.avatar,
         f.vertices,
         f.meshes,
@@ -98,6 +114,7 @@ mod tests {
             residual_max_mm: 0.3,
             implanted: Some((9000, 1200, 0)),
             own_face: None,
+            passed_over: Vec::new(),
             glb_bytes: 10_631_692,
         };
         let text = describe(&facts);
@@ -105,6 +122,7 @@ mod tests {
         assert!(text.contains("(fit within 0.04 mm on average, 0.30 mm at most)"));
         assert!(text.contains("implanted into 9000 face vertices and blended into 1200 next"));
         assert!(!text.contains("eyelid"));
+        assert!(!text.contains("Not taken"));
         assert!(text.contains("It keeps its own face at rest."));
         facts.own_face = Some((0.004, 0.0191));
         assert!(describe(&facts).contains("It has your face at rest, taken from your neutral scan (within 0.00 mm on average, 0.02 mm for 95% of it)."));
@@ -113,5 +131,9 @@ mod tests {
         assert!(describe(&facts).contains("; 3 eyelid vertices were moved"));
         facts.implanted = None;
         assert!(describe(&facts).contains("automatic retargeting"));
+        facts.passed_over = vec!["mesh 0 target 3 \"AK_25_JawOpen\" reads as jawOpen".into()];
+        assert!(describe(&facts).contains(
+            "52 shapes. Not taken, though named for an ARKit shape: mesh 0 target 3 \"AK_25_JawOpen\" reads as jawOpen. Face found"
+        ));
     }
 }

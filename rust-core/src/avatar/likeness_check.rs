@@ -19,6 +19,7 @@
 use super::model::Avatar;
 use super::registration::FaceRegistration;
 use super::retargeting::Retargeting;
+use super::target_names::arkit_targets;
 use crate::arkit::{Blendshape, Weights};
 use crate::personalize::evaluation::MeshError;
 use crate::session::Session;
@@ -69,7 +70,8 @@ pub struct AnimationShapes {
 }
 
 impl AnimationShapes {
-    /// The three sets for `avatar`: its own ARKit-named targets, `A_j` of
+    /// The three sets for `avatar`: its own targets for ARKit's shapes
+    /// (`target_names::arkit_targets`, halves summed), `A_j` of
     /// `retargeting`, and `implanted` (the implanted shapes, as
     /// [`super::partial_transfer::Implanted::shapes`]).
     pub fn new(
@@ -77,10 +79,11 @@ impl AnimationShapes {
         retargeting: &Retargeting,
         implanted: Vec<Vec<Vec3>>,
     ) -> AnimationShapes {
+        let own = arkit_targets(avatar);
         AnimationShapes {
             manual: Blendshape::ALL
                 .iter()
-                .map(|b| avatar.named_displacement(b.name()))
+                .map(|&b| own.displacement(avatar, b))
                 .collect(),
             automatic: retargeting.displacements(avatar),
             personalized: implanted,

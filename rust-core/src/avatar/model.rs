@@ -312,17 +312,6 @@ impl Avatar {
         }
         out
     }
-
-    /// The summed displacement of every target named exactly `name`, on
-    /// whichever meshes have one.
-    pub fn named_displacement(&self, name: &str) -> Vec<Vec3> {
-        let targets: Vec<(usize, usize)> = self
-            .target_ids()
-            .into_iter()
-            .filter(|&(m, t)| self.meshes[m].target_names[t] == name)
-            .collect();
-        self.summed_displacement(&targets)
-    }
 }
 
 #[cfg(test)]

@@ -22,7 +22,7 @@ use super::person_face::{TakeFaceError, TakenFace, skin_change};
 use super::registration::{FaceRegistration, RegistrationError, find_face};
 use super::rest_check::{RestCreases, RestSpike, rest_creases, rest_spike, scan_bend};
 use super::retargeting::{NEGLIGIBLE, RetargetError, Retargeting, retarget};
-use super::target_names::ArkitTargets;
+use super::target_names::{ArkitTargets, arkit_targets};
 use crate::arkit::{Blendshape, Blendshapes};
 use crate::geometry::Topology;
 use glam::Vec3;
@@ -438,7 +438,7 @@ pub fn personal_avatar(
 /// Whether some rigid piece other than the eyeballs moves with the jaw
 /// (jawOpen moves it): teeth, gums or a tongue.
 fn has_teeth(avatar: &Avatar, implanted: &Implanted, registration: &FaceRegistration) -> bool {
-    let jaw = avatar.named_displacement(Blendshape::JawOpen.name());
+    let jaw = arkit_targets(avatar).displacement(avatar, Blendshape::JawOpen);
     let in_eyeball = |v: u32| {
         registration
             .eyeballs

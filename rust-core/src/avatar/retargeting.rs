@@ -111,7 +111,7 @@ use super::head_skin::eyeball_flags;
 use super::model::Avatar;
 use super::own_shapes::{MaskOnSkin, face_part_triangles};
 use super::registration::FaceRegistration;
-use super::target_names::{TargetName, parse_target_name};
+use super::target_names::{TargetName, arkit_targets, resolve_mesh};
 use crate::arkit::{BLENDSHAPE_COUNT, Blendshape, Blendshapes};
 use crate::geometry::box_quadratic::{Bounds, minimize};
 use crate::personalize::blendshape_fit::in_parallel_map;
@@ -194,15 +194,23 @@ pub struct AvatarBlendshape {
 }
 
 /// The avatar's blendshapes: its morph targets grouped by name, in the
-/// order each name first appears.
+/// order each name first appears; a target taken whole for one of ARKit's
+/// shapes ([`resolve_mesh`]) goes by ARKit's name, as the avatar is written
+/// (`AK_18_JawOpen` on the head and `jawOpen` on the teeth are one).
 pub fn avatar_blendshapes(avatar: &Avatar) -> Vec<AvatarBlendshape> {
+    let taken: Vec<Vec<TargetName>> = (avatar.meshes().iter().enumerate())
+        .map(|(m, mesh)| resolve_mesh(m, &mesh.target_names).0)
+        .collect();
     let mut out: Vec<AvatarBlendshape> = Vec::new();
     for (m, t) in avatar.target_ids() {
-        let name = &avatar.meshes()[m].target_names[t];
-        match out.iter_mut().find(|b| &b.name == name) {
+        let name = match taken[m][t] {
+            TargetName::Arkit(shape) => shape.name(),
+            _ => &avatar.meshes()[m].target_names[t],
+        };
+        match out.iter_mut().find(|b| b.name == name) {
             Some(b) => b.targets.push((m, t)),
             None => out.push(AvatarBlendshape {
-                name: name.clone(),
+                name: name.to_string(),
                 targets: vec![(m, t)],
             }),
         }
@@ -488,16 +496,17 @@ pub fn retarget(
     for (i, u) in unseen.iter().enumerate() {
         system[(i, i)] += u;
     }
-    // The prior: each ARKit shape is the avatar's own target of that name
-    // (both halves of a split one).
-    let mut own_of: Vec<Option<usize>> = vec![None; k];
-    for (i, blendshape) in targets.iter().enumerate() {
-        let shape = match parse_target_name(&blendshape.name) {
-            TargetName::Arkit(shape) | TargetName::Half(shape, _) => shape,
-            TargetName::Other => continue,
-        };
-        own_of[i] = Some(shape.index());
-    }
+    // The prior: each ARKit shape is the avatar's own target taken for it
+    // (both halves of a split one; not one passed over for another).
+    let found = arkit_targets(avatar);
+    let own_of: Vec<Option<usize>> = targets
+        .iter()
+        .map(|b| {
+            (b.targets.iter())
+                .find_map(|&(m, t)| found.shape_of(m, t))
+                .map(Blendshape::index)
+        })
+        .collect();
     for j in 0..BLENDSHAPE_COUNT {
         let own: Vec<usize> = (0..k).filter(|&i| own_of[i] == Some(j)).collect();
         // A shape that moves the lids, or turns an eyeball or the jaw,

@@ -10,7 +10,7 @@
 //! avatar, its eyes at 1.63 m, its shoulders' cut at 1.41 m) sits on the
 //! torso's top, which reaches into the shoulders' dome.
 
-use super::glb_edit::Joint;
+use crate::glb_edit::Joint;
 use glam::{DVec3, Quat, Vec3};
 use std::f64::consts::TAU;
 
@@ -292,7 +292,7 @@ pub fn skeleton(eye_centres: [Vec3; 2]) -> Vec<Joint> {
 /// The bones as segments `(joint, from, to)` in the bind pose: each joint
 /// to its child (hands, feet and the head to a point beyond them).
 pub fn bones(joints: &[Joint]) -> Vec<(u16, Vec3, Vec3)> {
-    let worlds = super::glb_edit::joint_worlds(joints);
+    let worlds = crate::glb_edit::joint_worlds(joints);
     let at = |k: usize| worlds[k].transform_point3(Vec3::ZERO);
     let mut out = Vec::new();
     for k in 0..joints.len() {

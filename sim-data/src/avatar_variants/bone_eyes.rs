@@ -9,10 +9,10 @@
 //! head's eyeLook targets stay: they move only the lids, as the template's
 //! do; nothing else has them.
 
-use super::glb_edit::{Glb, Joint};
 use super::parts::{base, glb_of, plain_truth};
 use super::truth::VariantTruth;
 use crate::default_avatar::head::CENTRE;
+use crate::glb_edit::{Glb, Joint};
 use glam::Vec3;
 use likeness::avatar::Avatar;
 use serde_json::json;

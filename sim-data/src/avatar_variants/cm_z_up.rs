@@ -11,9 +11,9 @@
 //! `Rx(90°) · (100 p + (0, 150, 0))` cm: +Z up, the face looking down −Y
 //! (Blender's front view), the eyes about 153 cm above the floor.
 
-use super::glb_edit::Glb;
 use super::parts::{base, bounds, glb_of, plain_truth};
 use super::truth::{UpAxis, VariantTruth};
+use crate::glb_edit::Glb;
 use glam::{Quat, Vec3};
 use likeness::avatar::Avatar;
 use serde_json::json;

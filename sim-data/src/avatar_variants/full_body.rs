@@ -18,9 +18,9 @@ use super::accessories::{glasses, hair};
 use super::body::{
     EYE_JOINTS, HEAD_JOINT, HEAD_OFFSET, body, bones, nearest_joint, outfit, skeleton,
 };
-use super::glb_edit::Glb;
 use super::parts::{arkit_mesh, base, base_part, bounds, dpart, glb_of, plain_mesh, plain_truth};
 use super::truth::VariantTruth;
+use crate::glb_edit::Glb;
 use glam::Vec3;
 use likeness::Blendshape;
 use likeness::avatar::glb::MeshLook;

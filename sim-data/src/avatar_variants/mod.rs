@@ -15,9 +15,10 @@
 //! | `cm-z-up` | [`cm_z_up`] | centimetres, +Z up, rotation, scale and translation on parent nodes |
 //! | `other-proportions` | [`proportions`] | face 12% wider, eyes closer than that, nose 15% longer, mouth 12% narrower |
 //! | `meshopt` | [`crate::compressed_glb`] | `other-proportions` with `EXT_meshopt_compression` and `KHR_mesh_quantization` required |
+//! | `vendor-export` | [`vendor_export`] | the default's geometry, its targets named as vendors export them (`AK_18_JawOpen`, `A05_Eye_Look_Up_Left`, `blendShape3.eyeBlink_L`), its skin textured by a WebP image (`EXT_texture_webp` required, `KHR_texture_transform`), its geometry Draco-compressed (`KHR_draco_mesh_compression`, lossless) |
 //!
 //! Building blocks: [`parts`] (the default's parts, merging, truth common
-//! to all), [`glb_edit`] (node hierarchies and skins the core's writer
+//! to all), [`crate::glb_edit`] (node hierarchies and skins the core's writer
 //! does not write), [`truth`]. Every GLB is written by the core's
 //! `new_avatar_glb` and then edited; generation is deterministic.
 
@@ -26,7 +27,6 @@ pub mod body;
 pub mod bone_eyes;
 pub mod cm_z_up;
 pub mod full_body;
-pub mod glb_edit;
 pub mod lined_sockets;
 pub mod low_poly;
 pub mod one_mesh_face;
@@ -34,6 +34,7 @@ pub mod parts;
 pub mod proportions;
 pub mod teeth_gums;
 pub mod truth;
+pub mod vendor_export;
 
 pub use truth::{UpAxis, VariantTruth};
 
@@ -116,6 +117,11 @@ pub fn avatar_variants() -> Vec<AvatarVariant> {
             "meshopt",
             "The other-proportions head as web-optimised avatars ship: EXT_meshopt_compression and KHR_mesh_quantization required.",
             meshopt_glb(),
+        ),
+        variant(
+            "vendor-export",
+            "The default head as a vendor's web export: ARKit's shapes under numbered and prefixed names, a WebP skin, Draco geometry.",
+            vendor_export::vendor_export(),
         ),
     ]
 }

@@ -7,9 +7,9 @@
 //! Primitives of mesh `Face`: 0 skin, 1 left eye, 2 right eye, 3 teeth
 //! (both rows), 4 gums (both rows), 5 tongue.
 
-use super::glb_edit::Glb;
 use super::parts::{arkit_mesh, base, base_part, glb_of, merge, plain_truth};
 use super::truth::VariantTruth;
+use crate::glb_edit::Glb;
 use likeness::avatar::Avatar;
 use likeness::avatar::glb::MeshLook;
 use serde_json::json;

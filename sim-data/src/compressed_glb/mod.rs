@@ -8,6 +8,7 @@
 //! | [`quantize`] | positions, normals, target displacements as integers; the dequantizing node transform |
 //! | [`streams`] | meshoptimizer's codecs, and the views in the extension's layout |
 //! | [`accessors`] | reading the plain input's accessors (dense and sparse) |
+//! | [`draco`] | [`draco::draco_compressed`]: every primitive a Draco mesh (`KHR_draco_mesh_compression`), lossless |
 //! | `tests.rs` | a small avatar through the encoder; the node transforms |
 //!
 //! Only what a mesh primitive uses is rewritten: its `POSITION` (normalized
@@ -21,6 +22,7 @@
 //! this test encoder does not rewrite).
 
 pub mod accessors;
+pub mod draco;
 pub mod quantize;
 pub mod streams;
 #[cfg(test)]

@@ -119,32 +119,35 @@ pub(crate) fn join(json: &[u8], bin: &[u8]) -> Vec<u8> {
     out
 }
 
-/// The bytes of every buffer of `document`, in order, each at least as
-/// long as its `byteLength`; a buffer `skip` marks (a fallback buffer of
-/// `EXT_meshopt_compression`, `meshopt.rs`) is not loaded and left empty.
+/// The bytes of every buffer of `root` (read before validation, so that
+/// Draco-compressed accessors, which have no data of their own, can be
+/// decoded first), in order, each at least as long as its `byteLength`; a
+/// buffer `skip` marks (a fallback buffer of `EXT_meshopt_compression`,
+/// `meshopt.rs`) is not loaded and left empty. A buffer without a URI is
+/// the GLB's BIN chunk.
 pub(crate) fn load_buffers(
-    document: &gltf::Document,
+    root: &gltf::json::Root,
     bin: Option<&[u8]>,
     folder: Option<&Path>,
     file: &Path,
     skip: &[bool],
 ) -> Result<Vec<Vec<u8>>, GlbError> {
     let mut out = Vec::new();
-    for buffer in document.buffers() {
-        if skip.get(buffer.index()).copied().unwrap_or(false) {
+    for (index, buffer) in root.buffers.iter().enumerate() {
+        if skip.get(index).copied().unwrap_or(false) {
             out.push(Vec::new());
             continue;
         }
         let err = |what: String| GlbError::Buffer {
             file: file.to_path_buf(),
-            buffer: buffer.index(),
+            buffer: index,
             what,
         };
-        let bytes = match buffer.source() {
-            gltf::buffer::Source::Bin => bin
+        let bytes = match buffer.uri.as_deref() {
+            None => bin
                 .ok_or_else(|| err("refers to the GLB BIN chunk, which is absent".into()))?
                 .to_vec(),
-            gltf::buffer::Source::Uri(uri) => {
+            Some(uri) => {
                 if let Some(data) = uri.strip_prefix("data:") {
                     let (_, encoded) = data
                         .split_once(";base64,")
@@ -158,10 +161,10 @@ pub(crate) fn load_buffers(
                 }
             }
         };
-        if bytes.len() < buffer.length() {
+        let length = buffer.byte_length.0;
+        if (bytes.len() as u64) < length {
             return Err(err(format!(
-                "byteLength {} but only {} bytes",
-                buffer.length(),
+                "byteLength {length} but only {} bytes",
                 bytes.len()
             )));
         }

@@ -76,8 +76,8 @@ pub enum GlbError {
         what: String,
     },
     /// The file requires an extension that stores or places geometry in a
-    /// way this reader does not decode (`KHR_draco_mesh_compression`,
-    /// `EXT_mesh_gpu_instancing`); `advice` says how to convert the file.
+    /// way this reader does not decode (`EXT_mesh_gpu_instancing`);
+    /// `advice` says how to convert the file.
     #[error("{file}: requires {extension}, which this reader does not decode; {advice}")]
     Unsupported {
         /// The file.

@@ -10,6 +10,7 @@
 //! | Meshes; Morph Targets | reading an avatar, checking it has ARKit's names | [`read`] |
 //! | `EXT_meshopt_compression` | compressed buffer views, decoded before reading | `meshopt.rs` |
 //! | `EXT_meshopt_compression`, "Filters" | octahedral, quaternion, exponential filters | `meshopt_filters.rs` |
+//! | `KHR_draco_mesh_compression` | Draco-compressed primitives, decoded before reading | `draco.rs` |
 //! | `KHR_mesh_quantization` | quantized attributes rewritten as floats | `quantization.rs` |
 //! | Animations (normalized integers) | one integer component as a float | `normalized.rs` |
 //! | Accessors; Data Alignment; Accessor Bounds | accessors and views as written, dense or sparse | [`encode`] |
@@ -23,6 +24,7 @@
 
 mod accessor;
 mod container;
+mod draco;
 pub mod encode;
 pub mod error;
 pub mod look;

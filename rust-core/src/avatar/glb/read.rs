@@ -20,12 +20,17 @@
 //!   primitive's `extras.targetNames`, else the name of the target's
 //!   `POSITION` accessor, else `target N`.
 //! - A target without `POSITION` displaces nothing (zeros).
-//! - Geometry compressed with `EXT_meshopt_compression` is decoded and
-//!   geometry quantized with `KHR_mesh_quantization` turned into floats
-//!   first (`meshopt.rs`, `quantization.rs`): the JSON and buffers kept for
-//!   writing back are plain glTF 2.0 without either extension.
+//! - Geometry compressed with `EXT_meshopt_compression` or
+//!   `KHR_draco_mesh_compression` is decoded and geometry quantized with
+//!   `KHR_mesh_quantization` turned into floats first (`meshopt.rs`,
+//!   `draco.rs`, `quantization.rs`): the JSON and buffers kept for writing
+//!   back are plain glTF 2.0 without those extensions.
+//! - Textures are never decoded, so an image in any format
+//!   (`EXT_texture_webp`, `KHR_texture_basisu`: a texture whose image is in
+//!   its extension, with no `source` of its own) and any texture extension
+//!   (`KHR_texture_transform`) are kept as they are.
 //! - A required extension that stores or places geometry in a way this
-//!   reader does not decode (Draco, GPU instancing) is an error
+//!   reader does not decode (GPU instancing) is an error
 //!   ([`GlbError::Unsupported`], with advice on converting the file); any
 //!   other (materials, textures) does not concern the geometry and is kept
 //!   as it is.
@@ -38,7 +43,7 @@
 
 use super::accessor::Source;
 use super::scene::{Placement, placements};
-use super::{GlbError, container, meshopt, quantization};
+use super::{GlbError, container, draco, meshopt, quantization};
 use crate::avatar::{ArkitTargets, Avatar, AvatarMesh, AvatarPart, target_names::arkit_targets};
 use crate::io::read_bounded;
 use glam::Vec3;
@@ -60,6 +65,10 @@ pub struct GlbAvatar {
     pub file: PathBuf,
     pub(crate) json: serde_json::Value,
     pub(crate) buffers: Vec<Vec<u8>>,
+    /// Buffer views whose data was decoded into others (a Draco
+    /// primitive's stream) and that `json` no longer refers to: the writer
+    /// leaves them out.
+    pub(crate) decoded_views: Vec<usize>,
 }
 
 /// A primitive whose vertices are those of an earlier primitive's part:
@@ -106,19 +115,11 @@ pub fn read_avatar_bytes(bytes: &[u8], name: &str) -> Result<GlbAvatar, GlbError
 
 /// Required extensions that store or place geometry in a way this reader
 /// does not decode, with what to do about each.
-const UNSUPPORTED: [(&str, &str); 2] = [
-    (
-        "KHR_draco_mesh_compression",
-        "re-export the avatar without Draco compression, or decompress it with \
-         `npx @gltf-transform/cli cp in.glb out.glb` (or turn Draco into meshopt, which \
-         this reader decodes, with `npx @gltf-transform/cli meshopt in.glb out.glb`)",
-    ),
-    (
-        "EXT_mesh_gpu_instancing",
-        "re-export the avatar with its instances as ordinary nodes \
-         (`npx @gltf-transform/cli uninstance in.glb out.glb`)",
-    ),
-];
+const UNSUPPORTED: [(&str, &str); 1] = [(
+    "EXT_mesh_gpu_instancing",
+    "re-export the avatar with its instances as ordinary nodes \
+     (`npx @gltf-transform/cli uninstance in.glb out.glb`)",
+)];
 
 fn read(bytes: &[u8], file: &Path, folder: Option<&Path>) -> Result<GlbAvatar, GlbError> {
     let invalid = |what: String| GlbError::Invalid {
@@ -140,11 +141,20 @@ fn read(bytes: &[u8], file: &Path, folder: Option<&Path>) -> Result<GlbAvatar, G
             advice: advice.to_string(),
         });
     }
-    let mut document = document(root, file)?;
     let fallback = meshopt::fallback_buffers(&json);
-    let mut buffers = container::load_buffers(&document, parts.bin, folder, file, &fallback)?;
+    let mut buffers = container::load_buffers(&root, parts.bin, folder, file, &fallback)?;
     // Compressed and quantized geometry is made plain before anything is
-    // read (meshopt.rs, quantization.rs).
+    // read (draco.rs, meshopt.rs, quantization.rs). Draco's accessors have
+    // no data until decoded, which validation would refuse: they are
+    // decoded first.
+    let mut decoded_views = Vec::new();
+    let mut document = match draco::used(&json) {
+        true => {
+            decoded_views = draco::decode_primitives(&mut json, &mut buffers, file)?;
+            document_of(&json, file)?
+        }
+        false => document(root, file)?,
+    };
     if meshopt::used(&json) {
         meshopt::decode_views(&mut json, &mut buffers, file)?;
         document = document_of(&json, file)?;
@@ -218,6 +228,7 @@ fn read(bytes: &[u8], file: &Path, folder: Option<&Path>) -> Result<GlbAvatar, G
         file: file.to_path_buf(),
         json,
         buffers,
+        decoded_views,
     })
 }
 

@@ -46,7 +46,7 @@ use super::refs::{Kind, filling, place, renumber, used};
 use super::surface_turn::{WeldedSurface, all_normal_deltas};
 use super::{GlbAvatar, GlbError, container};
 use crate::arkit::{BLENDSHAPE_COUNT, Blendshape};
-use crate::avatar::target_names::{TargetName, parse_target_name};
+use crate::avatar::target_names::{TargetName, resolve_mesh};
 use crate::io::atomic_write::write_atomically;
 use glam::Vec3;
 use serde_json::{Value, json};
@@ -318,7 +318,9 @@ fn check_shapes(avatar: &GlbAvatar, shapes: &NewShapes) -> Result<(), String> {
 /// The targets mesh `m` is written with (the module's rules).
 fn plan_mesh(avatar: &GlbAvatar, shapes: &NewShapes, m: usize) -> Vec<Planned> {
     let names = &avatar.avatar.meshes()[m].target_names;
-    let parsed: Vec<TargetName> = names.iter().map(|n| parse_target_name(n)).collect();
+    // What each target is taken as: one passed over for another target of
+    // its shape is kept as the avatar's own.
+    let (parsed, _) = resolve_mesh(m, names);
     let has_whole = |s: Blendshape| parsed.contains(&TargetName::Arkit(s));
     let mut done = [false; BLENDSHAPE_COUNT];
     let mut plan = Vec::new();
@@ -452,7 +454,10 @@ fn assemble(
     let views_before = used(&avatar.json, Kind::View, views_total);
     let views_after = used(&doc, Kind::View, views_total);
     let drop: Vec<bool> = (0..views_total)
-        .map(|i| i < old_views && views_before[i] && !views_after[i])
+        .map(|i| {
+            let was_used = views_before[i] || avatar.decoded_views.contains(&i);
+            i < old_views && was_used && !views_after[i]
+        })
         .collect();
     let mut views: Vec<(Value, &[u8])> = Vec::with_capacity(views_total);
     let old = doc["bufferViews"].as_array().cloned().unwrap_or_default();

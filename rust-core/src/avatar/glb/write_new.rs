@@ -20,7 +20,7 @@ use super::container;
 use super::encode::{Builder, TargetEncoding};
 pub use super::surface_turn::vertex_normals;
 use super::surface_turn::{WeldedSurface, all_normal_deltas};
-use crate::avatar::target_names::{TargetName, parse_target_name};
+use crate::avatar::target_names::{TargetName, resolve_mesh};
 use crate::avatar::{Avatar, AvatarMesh};
 use crate::io::atomic_write::write_atomically;
 use glam::{Mat3, Vec3};
@@ -133,7 +133,7 @@ pub fn new_avatar_glb(
     let mut meshes = Vec::new();
     let mut materials = Materials::default();
     for (m, mesh) in avatar.meshes().iter().enumerate() {
-        let names = arkit_spelling(mesh);
+        let names = arkit_spelling(m, mesh);
         let name = mesh.name.clone().unwrap_or_else(|| format!("mesh {m}"));
         let mesh_look = options.looks.get(m).copied().unwrap_or(MeshLook::GREY);
         let mut primitives = Vec::new();
@@ -275,11 +275,14 @@ impl Materials {
     }
 }
 
-/// Target names, in ARKit's spelling where they are ARKit's.
-fn arkit_spelling(mesh: &AvatarMesh) -> Vec<String> {
+/// Target names, in ARKit's spelling where they are taken for one of its
+/// shapes whole (halves and targets passed over keep theirs).
+fn arkit_spelling(m: usize, mesh: &AvatarMesh) -> Vec<String> {
+    let (taken, _) = resolve_mesh(m, &mesh.target_names);
     mesh.target_names
         .iter()
-        .map(|n| match parse_target_name(n) {
+        .zip(taken)
+        .map(|(n, read)| match read {
             TargetName::Arkit(shape) => shape.name().to_string(),
             _ => n.clone(),
         })

@@ -459,3 +459,48 @@ fn every_target_carries_the_normal_change_it_causes() {
         );
     }
 }
+
+/// Texture extensions whose image lives in the extension (a texture with
+/// no `source`: `KHR_texture_basisu`, `EXT_texture_webp`, both required),
+/// a texture transform and a material extension: read, and written back
+/// as they were.
+#[test]
+fn texture_and_material_extensions_pass_through() {
+    let (mut doc, bin) = fixture();
+    doc["images"] = json!([
+        { "uri": "skin.ktx2", "mimeType": "image/ktx2" },
+        { "uri": "skin.webp", "mimeType": "image/webp" },
+    ]);
+    doc["textures"] = json!([
+        { "extensions": { "KHR_texture_basisu": { "source": 0 } } },
+        { "extensions": { "EXT_texture_webp": { "source": 1 } } },
+    ]);
+    let transform = json!({ "offset": [0.5, 0.0], "rotation": 0.1, "scale": [2.0, 2.0] });
+    doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] =
+        json!({ "index": 0, "extensions": { "KHR_texture_transform": transform } });
+    doc["materials"][0]["emissiveTexture"] = json!({ "index": 1 });
+    doc["materials"][0]["extensions"] =
+        json!({ "KHR_materials_emissive_strength": { "emissiveStrength": 2.0 } });
+    let used = [
+        "KHR_texture_basisu",
+        "EXT_texture_webp",
+        "KHR_texture_transform",
+        "KHR_materials_emissive_strength",
+    ];
+    doc["extensionsUsed"] = json!(used);
+    doc["extensionsRequired"] = json!(["KHR_texture_basisu", "EXT_texture_webp"]);
+    let g = read_avatar_bytes(&glb(&doc, &bin), "textured.glb").unwrap();
+    let shapes = new_shapes(&g);
+    let bytes =
+        written_back_glb(&g, &shapes, TargetEncoding::Smallest, Path::new("o.glb")).unwrap();
+    let back = read_avatar_bytes(&bytes, "o.glb").unwrap();
+    for key in [
+        "images",
+        "textures",
+        "materials",
+        "extensionsUsed",
+        "extensionsRequired",
+    ] {
+        assert_eq!(back.json()[key], doc[key], "{key}");
+    }
+}

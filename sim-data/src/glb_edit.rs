@@ -91,6 +91,17 @@ impl Glb {
         accessors.len() - 1
     }
 
+    /// Appends `bytes` as a buffer view (4-byte aligned) with no target
+    /// (an image's); the view's index.
+    pub fn push_view(&mut self, bytes: &[u8]) -> usize {
+        self.bin.resize(self.bin.len().next_multiple_of(4), 0);
+        let view = json!({ "buffer": 0, "byteOffset": self.bin.len(), "byteLength": bytes.len() });
+        self.bin.extend_from_slice(bytes);
+        let views = self.json["bufferViews"].as_array_mut().expect("views");
+        views.push(view);
+        views.len() - 1
+    }
+
     /// Adds `JOINTS_0` (unsigned short) and `WEIGHTS_0` (float) to
     /// primitive `primitive` of mesh `mesh`.
     pub fn skin_primitive(

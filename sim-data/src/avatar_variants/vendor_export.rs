@@ -106,12 +106,18 @@ fn webp_skin(glb: &mut Glb, positions: &[glam::Vec3]) {
         .expect("the writer writes materials");
     materials.push(textured);
     let material = materials.len() - 1;
-    for primitive in glb.json["meshes"][0]["primitives"]
-        .as_array_mut()
+    let primitives = glb.json["meshes"][0]["primitives"].as_array_mut();
+    for (p, primitive) in primitives
         .expect("the head has primitives")
+        .iter_mut()
+        .enumerate()
     {
+        // The lips share the skin's vertices (and so its UVs) but keep
+        // their own material.
         if primitive["attributes"]["POSITION"] == skin {
             primitive["attributes"]["TEXCOORD_0"] = json!(uv);
+        }
+        if p == 0 {
             primitive["material"] = json!(material);
         }
     }

@@ -111,7 +111,7 @@ use super::head_skin::eyeball_flags;
 use super::model::Avatar;
 use super::own_shapes::{MaskOnSkin, face_part_triangles};
 use super::registration::FaceRegistration;
-use super::target_names::{TargetName, arkit_targets, resolve_mesh};
+use super::target_names::{ArkitTargets, TargetName, arkit_targets};
 use crate::arkit::{BLENDSHAPE_COUNT, Blendshape, Blendshapes};
 use crate::geometry::box_quadratic::{Bounds, minimize};
 use crate::personalize::blendshape_fit::in_parallel_map;
@@ -194,16 +194,13 @@ pub struct AvatarBlendshape {
 }
 
 /// The avatar's blendshapes: its morph targets grouped by name, in the
-/// order each name first appears; a target taken whole for one of ARKit's
-/// shapes ([`resolve_mesh`]) goes by ARKit's name, as the avatar is written
+/// order each name first appears; a target `found` takes whole for one of
+/// ARKit's shapes goes by ARKit's name, as the avatar is written
 /// (`AK_18_JawOpen` on the head and `jawOpen` on the teeth are one).
-pub fn avatar_blendshapes(avatar: &Avatar) -> Vec<AvatarBlendshape> {
-    let taken: Vec<Vec<TargetName>> = (avatar.meshes().iter().enumerate())
-        .map(|(m, mesh)| resolve_mesh(m, &mesh.target_names).0)
-        .collect();
+pub fn avatar_blendshapes(avatar: &Avatar, found: &ArkitTargets) -> Vec<AvatarBlendshape> {
     let mut out: Vec<AvatarBlendshape> = Vec::new();
     for (m, t) in avatar.target_ids() {
-        let name = match taken[m][t] {
+        let name = match found.taken_as(m, t) {
             TargetName::Arkit(shape) => shape.name(),
             _ => &avatar.meshes()[m].target_names[t],
         };
@@ -425,7 +422,8 @@ pub fn retarget(
     registration: &FaceRegistration,
     shapes: &Blendshapes,
 ) -> Result<Retargeting, RetargetError> {
-    let targets = avatar_blendshapes(avatar);
+    let found = arkit_targets(avatar);
+    let targets = avatar_blendshapes(avatar, &found);
     let face = &registration.map.face;
     let rows = 3 * face.len();
     // G: each target's displacement seen through the mask as the person's
@@ -498,7 +496,6 @@ pub fn retarget(
     }
     // The prior: each ARKit shape is the avatar's own target taken for it
     // (both halves of a split one; not one passed over for another).
-    let found = arkit_targets(avatar);
     let own_of: Vec<Option<usize>> = targets
         .iter()
         .map(|b| {

@@ -288,6 +288,8 @@ pub fn resolve_mesh(mesh: usize, names: &[String]) -> (Vec<TargetName>, Vec<Pass
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ArkitTargets {
     taken: [Vec<(usize, usize)>; BLENDSHAPE_COUNT],
+    /// What each target of each mesh is taken as ([`resolve_mesh`]).
+    read: Vec<Vec<TargetName>>,
     passed_over: Vec<PassedOver>,
 }
 
@@ -297,11 +299,17 @@ impl ArkitTargets {
         &self.taken[shape.index()]
     }
 
+    /// What target `target` of mesh `mesh` is taken as: one of ARKit's
+    /// shapes whole, half of one, or `Other` (not ARKit's, or passed over
+    /// for another target).
+    pub fn taken_as(&self, mesh: usize, target: usize) -> TargetName {
+        let read = self.read.get(mesh).and_then(|m| m.get(target));
+        read.copied().unwrap_or(TargetName::Other)
+    }
+
     /// The shape target `target` of mesh `mesh` is taken for, if any.
     pub fn shape_of(&self, mesh: usize, target: usize) -> Option<Blendshape> {
-        Blendshape::ALL
-            .into_iter()
-            .find(|s| self.taken[s.index()].contains(&(mesh, target)))
+        self.taken_as(mesh, target).shape()
     }
 
     /// ARKit's shapes the avatar has none of, in Apple's order.
@@ -334,17 +342,22 @@ impl ArkitTargets {
 /// ([`resolve_mesh`]).
 pub fn arkit_targets(avatar: &Avatar) -> ArkitTargets {
     let mut taken: [Vec<(usize, usize)>; BLENDSHAPE_COUNT] = std::array::from_fn(|_| Vec::new());
-    let mut passed_over = Vec::new();
+    let (mut read, mut passed_over) = (Vec::new(), Vec::new());
     for (m, mesh) in avatar.meshes().iter().enumerate() {
-        let (read, passed) = resolve_mesh(m, &mesh.target_names);
-        for (t, name) in read.iter().enumerate() {
+        let (mesh_read, passed) = resolve_mesh(m, &mesh.target_names);
+        for (t, name) in mesh_read.iter().enumerate() {
             if let Some(shape) = name.shape() {
                 taken[shape.index()].push((m, t));
             }
         }
+        read.push(mesh_read);
         passed_over.extend(passed);
     }
-    ArkitTargets { taken, passed_over }
+    ArkitTargets {
+        taken,
+        read,
+        passed_over,
+    }
 }
 
 #[cfg(test)]

@@ -55,7 +55,7 @@ fn the_template_implanted_gives_back_the_avatars_own_shapes() {
     );
     assert!(implanted.adjacent_vertices > 1000);
     for shape in Blendshape::ALL {
-        let own = arkit_targets(&avatar).displacement(&avatar, shape);
+        let own = arkit_targets(avatar).displacement(avatar, shape);
         let got = &implanted.shapes[shape.index()];
         let reach = own.iter().map(|d| d.length()).fold(0.0, f32::max);
         let worst = got

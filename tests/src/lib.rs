@@ -13,3 +13,4 @@ pub mod gltf_validator;
 pub mod live_link;
 pub mod seam;
 pub mod shared_avatars;
+pub mod units;

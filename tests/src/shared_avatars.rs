@@ -3,7 +3,7 @@
 //! and never committed, nor anything derived from them.
 
 use likeness::avatar::glb::read::{GlbAvatar, read_avatar};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// ICT-FaceKit read ([`shared_avatar`]).
 pub fn ict_facekit() -> Option<GlbAvatar> {
@@ -23,9 +23,16 @@ pub fn shared_avatars() -> Vec<GlbAvatar> {
 }
 
 /// `../shared/avatars/NAME` read, or `None` with a notice on stderr where
-/// it is absent (a fresh clone): a test that needs it then skips. Under CI
-/// (`CI=true`), which has `../shared/`, its absence fails.
+/// it is absent ([`shared_avatar_path`]).
 pub fn shared_avatar(name: &str) -> Option<GlbAvatar> {
+    let path = shared_avatar_path(name)?;
+    Some(read_avatar(&path).unwrap_or_else(|e| panic!("{name} reads: {e}")))
+}
+
+/// The path of `../shared/avatars/NAME`, or `None` with a notice on stderr
+/// where it is absent (a fresh clone): a test that needs it then skips.
+/// Under CI (`CI=true`), which has `../shared/`, its absence fails.
+pub fn shared_avatar_path(name: &str) -> Option<PathBuf> {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../shared/avatars")
         .join(name);
@@ -41,5 +48,5 @@ pub fn shared_avatar(name: &str) -> Option<GlbAvatar> {
         );
         return None;
     }
-    Some(read_avatar(&path).unwrap_or_else(|e| panic!("{name} reads: {e}")))
+    Some(path)
 }

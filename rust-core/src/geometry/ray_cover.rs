@@ -14,6 +14,12 @@
 
 use glam::DVec3;
 
+/// A line counts as parallel to a triangle's plane where the volume
+/// spanned by its direction and two of the triangle's edges is below this
+/// share of the product of their lengths (dimensionless, so the same in
+/// any unit: rounding, not geometry).
+pub const PARALLEL: f64 = 1e-12;
+
 /// Möller–Trumbore: whether the ray `o + s d`, `s > 0`, crosses triangle
 /// `abc`.
 pub fn ray_hits(o: DVec3, d: DVec3, abc: [DVec3; 3]) -> bool {
@@ -32,7 +38,10 @@ pub fn line_crossing(o: DVec3, d: DVec3, [a, b, c]: [DVec3; 3]) -> Option<f64> {
     let (e1, e2) = (b - a, c - a);
     let p = d.cross(e2);
     let det = e1.dot(p);
-    if det.abs() < 1e-18 {
+    // Parallel (within rounding) to the triangle's plane: `det` is the
+    // volume of the three vectors, compared with the product of their
+    // lengths, so the test is the same in any unit.
+    if det.abs() <= PARALLEL * d.length() * e1.length() * e2.length() {
         return None;
     }
     let t = o - a;

@@ -4,6 +4,7 @@
 //! triangles are binned by their bounding boxes in a grid of cells twice
 //! the mean edge long, so only triangles that share a cell are compared.
 
+use crate::geometry::ray_cover::PARALLEL;
 use glam::DVec3;
 use std::collections::{HashMap, HashSet};
 
@@ -67,7 +68,7 @@ fn segment_crosses(a: DVec3, b: DVec3, q: [DVec3; 3]) -> bool {
     let (e1, e2) = (q[1] - q[0], q[2] - q[0]);
     let h = d.cross(e2);
     let det = e1.dot(h);
-    if det.abs() < 1e-18 {
+    if det.abs() <= PARALLEL * d.length() * e1.length() * e2.length() {
         return false;
     }
     let s = a - q[0];

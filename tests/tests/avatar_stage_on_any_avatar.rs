@@ -77,7 +77,7 @@ fn every_generated_avatar_gets_the_persons_face_without_tears_open_blinks_or_lid
     for variant in avatar_variants() {
         let glb = read_avatar_bytes(&variant.glb, variant.name).expect("reads");
         let (made, f) = implant_subject(&glb);
-        let has_teeth = variant.truth.teeth_part.is_some();
+        let has_teeth = variant.truth.teeth.is_some();
         assert_found_and_whole(variant.name, &made, &f, has_teeth);
         assert_roles(variant.name, &glb, &made, &variant.truth);
         assert_blinks_close(variant.name, &f);
@@ -91,10 +91,33 @@ fn every_generated_avatar_gets_the_persons_face_without_tears_open_blinks_or_lid
 fn assert_roles(name: &str, glb: &GlbAvatar, made: &PersonalAvatar, truth: &VariantTruth) {
     let roles = &made.registration.roles;
     assert_eq!(roles[truth.head_part], PartRole::Skin, "{name}");
-    for k in truth.eyeball_parts {
-        assert_eq!(roles[k], PartRole::Eyeball, "{name}: part {k}");
+    let avatar = &glb.avatar;
+    for eye in &truth.eyeballs {
+        match eye.is_whole(avatar) {
+            true => assert_eq!(
+                roles[eye.part],
+                PartRole::Eyeball,
+                "{name}: part {}",
+                eye.part
+            ),
+            // A loose piece of the head's part: found by its vertices
+            // (with the iris and pupil in front of it).
+            false => {
+                let want: Vec<u32> = eye.avatar_vertices(avatar).map(|v| v as u32).collect();
+                assert!(
+                    made.registration
+                        .eyeballs
+                        .iter()
+                        .any(|e| want.iter().all(|v| e.binary_search(v).is_ok())),
+                    "{name}: the eyeball at vertices {:?} of part {} not found",
+                    eye.vertices,
+                    eye.part
+                );
+            }
+        }
     }
-    if let Some(k) = truth.teeth_part {
+    if let Some(teeth) = truth.teeth.as_ref().filter(|t| t.is_whole(avatar)) {
+        let k = teeth.part;
         let role = roles[k];
         let both = truth.teeth_share_mesh_with_gums || name.starts_with("one-mesh");
         assert!(

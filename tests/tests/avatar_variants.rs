@@ -12,7 +12,7 @@
 use glam::{Mat4, Vec3};
 use likeness::avatar::glb::{GlbAvatar, check_avatar, read_avatar_bytes};
 use likeness::avatar::{TargetName, parse_target_name};
-use likeness_sim::avatar_variants::{AvatarVariant, UpAxis, VariantTruth, avatar_variants};
+use likeness_sim::avatar_variants::{AvatarVariant, Piece, UpAxis, VariantTruth, avatar_variants};
 use likeness_tests::gltf_validator::validate;
 use std::sync::OnceLock;
 
@@ -47,9 +47,13 @@ fn y_up_metres(t: &VariantTruth, p: Vec3) -> Vec3 {
 
 /// Centre of a part's bounding box, in metres, +Y up.
 fn centre(t: &VariantTruth, a: &GlbAvatar, part: usize) -> Vec3 {
+    piece_centre(t, a, &Piece::whole(&a.avatar, part))
+}
+
+/// The centre of `piece`'s bounding box in metres, +Y up.
+fn piece_centre(t: &VariantTruth, a: &GlbAvatar, piece: &Piece) -> Vec3 {
     let [lo, hi] = bounds(
-        a.avatar.parts()[part]
-            .positions
+        a.avatar.parts()[piece.part].positions[piece.vertices.clone()]
             .iter()
             .map(|&p| y_up_metres(t, p)),
     );
@@ -57,7 +61,7 @@ fn centre(t: &VariantTruth, a: &GlbAvatar, part: usize) -> Vec3 {
 }
 
 #[test]
-fn the_variants_are_the_ten_listed() {
+fn the_variants_are_the_eleven_listed() {
     let names: Vec<&str> = variants().iter().map(|v| v.name).collect();
     assert_eq!(
         names,
@@ -71,6 +75,7 @@ fn the_variants_are_the_ten_listed() {
             "cm-z-up",
             "other-proportions",
             "meshopt",
+            "head-box",
             "vendor-export"
         ]
     );
@@ -163,13 +168,13 @@ fn world_bounds_units_and_up_axis_are_as_built() {
             "{}: height {height} m",
             v.name
         );
-        let eyes = t.eyeball_parts.map(|k| centre(t, &a, k));
+        let eyes = t.eyeballs.each_ref().map(|e| piece_centre(t, &a, e));
         let head = centre(t, &a, t.head_part);
         for e in eyes {
             assert!(e.z > head.z, "{}: eyes face +z after conversion", v.name);
-            if let Some(teeth) = t.teeth_part {
+            if let Some(teeth) = &t.teeth {
                 assert!(
-                    e.y > centre(t, &a, teeth).y + 0.04,
+                    e.y > piece_centre(t, &a, teeth).y + 0.04,
                     "{}: eyes above teeth",
                     v.name
                 );
@@ -209,16 +214,16 @@ fn arkit_name(name: &str) -> &str {
     parse_target_name(name).shape().map_or(name, |s| s.name())
 }
 
-/// Largest displacement of part `k` under every target whose ARKit name
+/// Largest displacement of `piece` under every target whose ARKit name
 /// starts with `prefix`.
-fn moved_by(a: &GlbAvatar, k: usize, prefix: &str) -> f32 {
-    let part = &a.avatar.parts()[k];
+fn moved_by(a: &GlbAvatar, piece: &Piece, prefix: &str) -> f32 {
+    let part = &a.avatar.parts()[piece.part];
     let names = &a.avatar.meshes()[part.mesh].target_names;
     names
         .iter()
         .zip(&part.targets)
         .filter(|(n, _)| arkit_name(n).starts_with(prefix))
-        .flat_map(|(_, d)| d.iter().map(|v| v.length()))
+        .flat_map(|(_, d)| d[piece.vertices.clone()].iter().map(|v| v.length()))
         .fold(0.0, f32::max)
 }
 
@@ -226,8 +231,9 @@ fn moved_by(a: &GlbAvatar, k: usize, prefix: &str) -> f32 {
 fn eyes_turn_by_targets_or_by_bones_as_built() {
     for v in variants() {
         let (a, t) = (read(v), &v.truth);
-        for k in t.eyeball_parts {
-            let moves = moved_by(&a, k, "eyeLook") * t.unit_to_metres > 1e-3;
+        for eye in &t.eyeballs {
+            let k = eye.part;
+            let moves = moved_by(&a, eye, "eyeLook") * t.unit_to_metres > 1e-3;
             assert_eq!(moves, t.eye_look_moves_eyeballs, "{}: part {k}", v.name);
             let node = &a.json()["nodes"][a.placements[k].node];
             let skinned_to_eye = node["skin"].as_u64().is_some_and(|s| {
@@ -264,14 +270,16 @@ fn eyes_turn_by_targets_or_by_bones_as_built() {
 fn jaw_open_moves_the_lower_half_of_shared_teeth_rigidly() {
     for v in variants() {
         let (a, t) = (read(v), &v.truth);
-        let Some(k) = t.teeth_part else { continue };
-        let part = &a.avatar.parts()[k];
+        let Some(teeth) = &t.teeth else { continue };
+        let part = &a.avatar.parts()[teeth.part];
         let jaw = a.avatar.meshes()[part.mesh]
             .target_names
             .iter()
             .position(|n| arkit_name(n) == "jawOpen")
             .unwrap();
-        let moved: Vec<usize> = (0..part.positions.len())
+        let moved: Vec<usize> = teeth
+            .vertices
+            .clone()
             .filter(|&i| part.targets[jaw][i].length() > 1e-6)
             .collect();
         assert_eq!(
@@ -376,8 +384,8 @@ fn lined_sockets_have_no_hole_at_the_eyes() {
         let head = &a.avatar.parts()[v.truth.head_part];
         let topology =
             Topology::new(head.positions.len(), head.triangles.clone()).expect("a checked part");
-        let eyes = v.truth.eyeball_parts.map(|k| {
-            let p = &a.avatar.parts()[k].positions;
+        let eyes = v.truth.eyeballs.each_ref().map(|e| {
+            let p = &a.avatar.parts()[e.part].positions[e.vertices.clone()];
             let c = p.iter().copied().sum::<Vec3>() / p.len() as f32;
             let r = p.iter().map(|q| q.distance(c)).fold(0.0, f32::max);
             (c, r)

@@ -18,8 +18,10 @@ use super::accessories::{glasses, hair};
 use super::body::{
     EYE_JOINTS, HEAD_JOINT, HEAD_OFFSET, body, bones, nearest_joint, outfit, skeleton,
 };
-use super::parts::{arkit_mesh, base, base_part, bounds, dpart, glb_of, plain_mesh, plain_truth};
-use super::truth::VariantTruth;
+use super::parts::{
+    arkit_mesh, base, base_part, bounds, dpart, glb_of, plain_mesh, plain_truth, with_mixes,
+};
+use super::truth::{Piece, VariantTruth};
 use crate::glb_edit::Glb;
 use glam::Vec3;
 use likeness::Blendshape;
@@ -65,17 +67,8 @@ pub const NECK_CUT: f32 = HEAD_OFFSET.y - 0.10;
 /// A head part lifted by [`HEAD_OFFSET`], its targets followed by the
 /// visemes.
 fn head_part(k: usize, mesh: usize, primitive: usize) -> AvatarPart {
-    let mut p = base_part(k, mesh, primitive);
+    let mut p = with_mixes(base_part(k, mesh, primitive), &VISEMES.map(|v| v.1));
     p.positions.iter_mut().for_each(|v| *v += HEAD_OFFSET);
-    let visemes: Vec<Vec<Vec3>> = VISEMES
-        .iter()
-        .map(|(_, mix)| {
-            (0..p.positions.len())
-                .map(|v| mix.iter().map(|(s, w)| *w * p.targets[s.index()][v]).sum())
-                .collect()
-        })
-        .collect();
-    p.targets.extend(visemes);
     p
 }
 
@@ -171,8 +164,8 @@ pub fn full_body() -> (Vec<u8>, VariantTruth) {
     glb.set_scene_roots(&roots);
     let mut truth = plain_truth(&avatar, 0, b.true_correspondence.len());
     // Its eyes are the default's eyeballs alone (no iris or pupil parts).
-    truth.eyeball_parts = [4, 5];
-    truth.teeth_part = Some(6);
+    truth.eyeballs = [4, 5].map(|k| Piece::whole(&avatar, k));
+    truth.teeth = Some(Piece::whole(&avatar, 6));
     truth.eyes_bone_driven = true;
     truth.skinned = true;
     truth.non_identity_bind_pose = true;

@@ -14,7 +14,7 @@
 //! over the eyeball, and the strip stretches, as ICT's lining does).
 
 use super::parts::{base, glb_of, plain_truth};
-use super::truth::VariantTruth;
+use super::truth::{Piece, VariantTruth};
 use glam::Vec3;
 use likeness::avatar::{Avatar, AvatarPart};
 use likeness::geometry::Topology;
@@ -166,7 +166,7 @@ pub fn lined_sockets() -> (Vec<u8>, VariantTruth) {
     let avatar = avatar();
     let mut truth = plain_truth(&avatar, 0, base().true_correspondence.len());
     // The sockets' part is gone into the skin's: the later parts move up one.
-    truth.eyeball_parts = base().eyes.map(|e| e - 1);
-    truth.teeth_part = Some(base().teeth[0] - 1);
+    truth.eyeballs = base().eyes.map(|e| Piece::whole(&avatar, e - 1));
+    truth.teeth = Some(Piece::whole(&avatar, base().teeth[0] - 1));
     (glb_of(&avatar, None), truth)
 }

@@ -9,7 +9,7 @@
 //! targets.
 
 use super::parts::{arkit_mesh, dpart, plain_truth, sorted};
-use super::truth::VariantTruth;
+use super::truth::{Piece, VariantTruth};
 use crate::default_avatar::{DefaultAvatar, shape_rotation, shapes::rotate_about, skin::skin};
 use glam::DVec3;
 use likeness::Blendshape;
@@ -97,7 +97,7 @@ pub fn low_poly(base: &DefaultAvatar) -> (Avatar, VariantTruth) {
         Avatar::new(meshes.to_vec(), parts).expect("the low-poly variant's parts make an avatar"),
     );
     let mut truth = plain_truth(&avatar, 0, s.face.positions.len());
-    truth.eyeball_parts = [1, 2];
-    truth.teeth_part = None;
+    truth.eyeballs = [1, 2].map(|k| Piece::whole(&avatar, k));
+    truth.teeth = None;
     (avatar, truth)
 }

@@ -15,6 +15,7 @@
 //! | `cm-z-up` | [`cm_z_up`] | centimetres, +Z up, rotation, scale and translation on parent nodes |
 //! | `other-proportions` | [`proportions`] | face 12% wider, eyes closer than that, nose 15% longer, mouth 12% narrower |
 //! | `meshopt` | [`crate::compressed_glb`] | `other-proportions` with `EXT_meshopt_compression` and `KHR_mesh_quantization` required |
+//! | `head-box` | [`head_box`] | one mesh for the whole character (Rocketbox with HeadBox's rig): primitives body and head, the eyeballs, teeth, gums and tongue loose pieces of the head's primitive; ARKit's names behind `AK_NN_`, then action units (`AU_26_JawDrop`) and visemes (`AA_VI_01_aa`) that move the face too |
 //! | `vendor-export` | [`vendor_export`] | the default's geometry, its targets named as vendors export them (`AK_18_JawOpen`, `A05_Eye_Look_Up_Left`, `blendShape3.eyeBlink_L`), its skin textured by a WebP image (`EXT_texture_webp` required, `KHR_texture_transform`), its geometry Draco-compressed (`KHR_draco_mesh_compression`, lossless) |
 //!
 //! Building blocks: [`parts`] (the default's parts, merging, truth common
@@ -27,6 +28,7 @@ pub mod body;
 pub mod bone_eyes;
 pub mod cm_z_up;
 pub mod full_body;
+pub mod head_box;
 pub mod lined_sockets;
 pub mod low_poly;
 pub mod one_mesh_face;
@@ -36,7 +38,7 @@ pub mod teeth_gums;
 pub mod truth;
 pub mod vendor_export;
 
-pub use truth::{UpAxis, VariantTruth};
+pub use truth::{Piece, UpAxis, VariantTruth};
 
 /// One test avatar: its GLB and what a reader must find in it.
 #[derive(Clone, Debug)]
@@ -117,6 +119,11 @@ pub fn avatar_variants() -> Vec<AvatarVariant> {
             "meshopt",
             "The other-proportions head as web-optimised avatars ship: EXT_meshopt_compression and KHR_mesh_quantization required.",
             meshopt_glb(),
+        ),
+        variant(
+            "head-box",
+            "A Rocketbox character with HeadBox's rig: one mesh, body and head primitives, the eyes and teeth inside the head's primitive, 62 targets.",
+            head_box::head_box(),
         ),
         variant(
             "vendor-export",

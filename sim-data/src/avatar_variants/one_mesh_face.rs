@@ -8,7 +8,7 @@
 //! (both rows), 4 gums (both rows), 5 tongue.
 
 use super::parts::{arkit_mesh, base, base_part, glb_of, merge, plain_truth};
-use super::truth::VariantTruth;
+use super::truth::{Piece, VariantTruth};
 use crate::glb_edit::Glb;
 use likeness::avatar::Avatar;
 use likeness::avatar::glb::MeshLook;
@@ -65,8 +65,8 @@ pub fn one_mesh_face() -> (Vec<u8>, VariantTruth) {
     let mut glb = Glb::parse(&glb_of(&avatar, None));
     materials(&mut glb);
     let mut truth = plain_truth(&avatar, 0, base().true_correspondence.len());
-    truth.eyeball_parts = [1, 2];
-    truth.teeth_part = Some(3);
+    truth.eyeballs = [1, 2].map(|k| Piece::whole(&avatar, k));
+    truth.teeth = Some(Piece::whole(&avatar, 3));
     truth.jaw_moved_vertices = base().avatar.parts()[base().teeth[1]].positions.len();
     (glb.to_bytes(), truth)
 }

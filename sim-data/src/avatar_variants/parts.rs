@@ -2,7 +2,7 @@
 //! by role, parts from `f64` geometry, merging parts into one primitive,
 //! the GLB of an avatar, and the truth every variant computes alike.
 
-use super::truth::{UpAxis, VariantTruth};
+use super::truth::{Piece, UpAxis, VariantTruth};
 use crate::default_avatar::{DefaultAvatar, default_avatar, looks};
 use glam::{DVec3, Vec3};
 use likeness::Blendshape;
@@ -42,6 +42,29 @@ pub fn dpart(
         triangles: triangles.to_vec(),
         targets: targets.iter().map(|t| f(t)).collect(),
     }
+}
+
+/// A mix of ARKit shapes at weights: a viseme or an action unit as a rig
+/// makes it from its ARKit targets.
+pub type ShapeMix = &'static [(Blendshape, f32)];
+
+/// `part` with one target appended per mix of `mixes`, each the mix of its
+/// ARKit targets (the part's first 52, in Apple's order).
+pub fn with_mixes(mut part: AvatarPart, mixes: &[ShapeMix]) -> AvatarPart {
+    let added: Vec<Vec<Vec3>> = mixes
+        .iter()
+        .map(|mix| {
+            (0..part.positions.len())
+                .map(|v| {
+                    mix.iter()
+                        .map(|(s, w)| *w * part.targets[s.index()][v])
+                        .sum()
+                })
+                .collect()
+        })
+        .collect();
+    part.targets.extend(added);
+    part
 }
 
 /// `parts` concatenated into one primitive (their targets concatenated
@@ -139,11 +162,11 @@ pub fn plain_truth(avatar: &Avatar, head_part: usize, face_vertices: usize) -> V
         head_part,
         head_vertices: avatar.parts()[head_part].positions.len(),
         face_vertices,
-        eyeball_parts: base().eyes,
+        eyeballs: base().eyes.map(|k| Piece::whole(&base().avatar, k)),
         eyes_bone_driven: false,
         eye_look_moves_eyeballs: true,
         teeth_share_mesh_with_gums: false,
-        teeth_part: Some(base().teeth[0]),
+        teeth: Some(Piece::whole(&base().avatar, base().teeth[0])),
         jaw_moved_vertices: 0,
         skinned: false,
         non_identity_bind_pose: false,

@@ -10,7 +10,7 @@
 //! hinge, or a translation), the upper row never moves.
 
 use super::parts::{base, base_part, glb_of, merge, plain_truth};
-use super::truth::VariantTruth;
+use super::truth::{Piece, VariantTruth};
 use likeness::avatar::glb::MeshLook;
 use likeness::avatar::{Avatar, AvatarPart};
 
@@ -64,7 +64,8 @@ pub fn teeth_gums_one_mesh() -> (Vec<u8>, VariantTruth) {
     let mut truth = plain_truth(&avatar, 0, base().true_correspondence.len());
     truth.teeth_share_mesh_with_gums = true;
     // The parts of meshes 0–2 (head, eyes), then the merged teeth.
-    truth.teeth_part = Some(avatar.parts().iter().filter(|p| p.mesh < 3).count());
+    let teeth = avatar.parts().iter().filter(|p| p.mesh < 3).count();
+    truth.teeth = Some(Piece::whole(&avatar, teeth));
     truth.jaw_moved_vertices = lower;
     let looks = vec![
         MeshLook::SKIN,

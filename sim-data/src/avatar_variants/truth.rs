@@ -2,6 +2,8 @@
 //! construction.
 
 use glam::Vec3;
+use likeness::avatar::Avatar;
+use std::ops::Range;
 
 /// The world's vertical axis as the file has it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -10,6 +12,37 @@ pub enum UpAxis {
     Y,
     /// +Z up (Blender, 3ds Max and CAD exports without the conversion).
     Z,
+}
+
+/// Something of an avatar that a reader must find as one piece: a whole
+/// part, or a loose piece of a part (eyeballs in the head's primitive).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Piece {
+    /// The part it lies in.
+    pub part: usize,
+    /// Its vertices, indices into the part's.
+    pub vertices: Range<usize>,
+}
+
+impl Piece {
+    /// The whole of part `k`.
+    pub fn whole(avatar: &Avatar, k: usize) -> Piece {
+        Piece {
+            part: k,
+            vertices: 0..avatar.parts()[k].positions.len(),
+        }
+    }
+
+    /// Whether it is the whole of its part in `avatar`.
+    pub fn is_whole(&self, avatar: &Avatar) -> bool {
+        self.vertices == (0..avatar.parts()[self.part].positions.len())
+    }
+
+    /// Its vertices as indices into `avatar`'s concatenated vertices.
+    pub fn avatar_vertices(&self, avatar: &Avatar) -> Range<usize> {
+        let o = avatar.vertex_offsets()[self.part];
+        o + self.vertices.start..o + self.vertices.end
+    }
 }
 
 /// What a reader must find in a test avatar. Part indices are those of
@@ -28,9 +61,9 @@ pub struct VariantTruth {
     /// Of those, the face region's (inside the face's outline): the part's
     /// first `face_vertices` vertices.
     pub face_vertices: usize,
-    /// The eyeball parts, `[left, right]` (the person's left: +x in ARKit
+    /// The eyeballs, `[left, right]` (the person's left: +x in ARKit
     /// space).
-    pub eyeball_parts: [usize; 2],
+    pub eyeballs: [Piece; 2],
     /// Whether the eyeballs are turned by bones (skinned to eye joints)
     /// rather than by eyeLook targets.
     pub eyes_bone_driven: bool,
@@ -38,10 +71,10 @@ pub struct VariantTruth {
     pub eye_look_moves_eyeballs: bool,
     /// Whether upper and lower teeth and gums are one primitive.
     pub teeth_share_mesh_with_gums: bool,
-    /// The part holding the teeth (the upper teeth where they are split),
-    /// if there are teeth.
-    pub teeth_part: Option<usize>,
-    /// Vertices of `teeth_part` that jawOpen moves (rigidly, about the
+    /// The teeth (the upper teeth where they are split), if there are
+    /// teeth.
+    pub teeth: Option<Piece>,
+    /// Vertices of `teeth` that jawOpen moves (rigidly, about the
     /// hinge): the lower row's.
     pub jaw_moved_vertices: usize,
     /// Whether some mesh is skinned.

@@ -45,7 +45,7 @@ fn cc_words(shape: Blendshape) -> String {
 
 /// The vendor's name for the target named `name` on mesh `mesh` (by the
 /// mesh's name), or `name` where it is not one of ARKit's.
-fn vendor_name(mesh: &str, name: &str) -> String {
+pub fn vendor_name(mesh: &str, name: &str) -> String {
     let Ok(shape) = Blendshape::parse(name) else {
         return name.to_string();
     };

@@ -627,8 +627,8 @@ fn follow_the_skin(scene: &Scene, full: &mut [Vec<DVec3>]) -> usize {
     follows.len()
 }
 
-/// Rigid pieces: each connected component outside the face parts that
-/// every own target moves rigidly (an eyeball; each tooth, or a
+/// Rigid pieces: each connected component off the skin the mask lies on
+/// that every own target moves rigidly (an eyeball; each tooth, or a
 /// teeth-and-gums arch, in a mesh that holds both jaws), held rigid in
 /// every shape ([`rigid_parts`]). Returns the pieces and, for each, the
 /// largest deviation from a rigid motion removed.
@@ -637,12 +637,13 @@ fn hold_rigid_pieces(
     full: &mut [Vec<DVec3>],
 ) -> (Vec<rigid_parts::RigidPiece>, Vec<f64>) {
     let own = scene.avatar.moving_target_displacements();
-    let pieces = rigid_parts::rigid_pieces(
-        scene.avatar,
-        &scene.positions,
-        &own,
-        &scene.registration.face_parts(),
-    );
+    let mut on_mask = vec![false; scene.positions.len()];
+    for f in &scene.registration.map.face {
+        if let Some(flag) = on_mask.get_mut(f.vertex as usize) {
+            *flag = true;
+        }
+    }
+    let pieces = rigid_parts::rigid_pieces(scene.avatar, &scene.positions, &own, &on_mask);
     let removed = pieces
         .iter()
         .map(|piece| {

@@ -36,9 +36,12 @@ pub struct RigidPiece {
 }
 
 /// The rigid pieces of `avatar` (rest `positions`, own target
-/// displacements `own`): in each part not in `face_parts`, the connected
-/// components that each target moves rigidly within [`RIGID_TOLERANCE`]
-/// of their size, gathered greedily into groups that move as one rigid
+/// displacements `own`): the connected components that hold no vertex of
+/// the skin the mask lies on (`on_mask`, flags over the avatar's
+/// vertices; a head whose eyeballs and teeth are loose pieces of the
+/// skin's own primitive, as Rocketbox's, has them found here too) and
+/// that each target moves rigidly within [`RIGID_TOLERANCE`] of their
+/// size, gathered greedily into groups that move as one rigid
 /// body (the teeth of one jaw, whether one mesh or one component each):
 /// within a part, any such; across parts, those whose boxes at rest
 /// overlap (an eye's sclera, iris and pupil; not a static accessory that
@@ -49,7 +52,7 @@ pub fn rigid_pieces(
     avatar: &Avatar,
     positions: &[DVec3],
     own: &[Vec<DVec3>],
-    face_parts: &[usize],
+    on_mask: &[bool],
 ) -> Vec<RigidPiece> {
     let offsets = avatar.vertex_offsets();
     let rigid = |vertices: &[u32]| {
@@ -61,13 +64,13 @@ pub fn rigid_pieces(
     };
     let mut pieces: Vec<RigidPiece> = Vec::new();
     for (i, part) in avatar.parts().iter().enumerate() {
-        if face_parts.contains(&i) {
-            continue;
-        }
         let o = offsets[i] as u32;
         for component in component_vertices(part.positions.len(), &part.triangles) {
             let vertices: Vec<u32> = component.into_iter().map(|v| v + o).collect();
-            if !rigid(&vertices) {
+            let skin = vertices
+                .iter()
+                .any(|&v| on_mask.get(v as usize).copied().unwrap_or(false));
+            if skin || !rigid(&vertices) {
                 continue;
             }
             let reach = bounds(positions, &vertices);

@@ -66,18 +66,27 @@ fn extras() -> Vec<(&'static str, ShapeMix)> {
     ACTION_UNITS.into_iter().chain(visemes).collect()
 }
 
-/// The avatar: one mesh of two primitives, the head lifted onto the body.
-fn avatar() -> Avatar {
+/// The default avatar's parts that make the head's primitive, in the
+/// order merged: skin, ears, sockets, lining, the eyes (left, right), the
+/// teeth (upper, lower), the gums, the tongue, the irises and pupils.
+fn head_pieces() -> Vec<usize> {
     let b = base();
-    let pieces: Vec<AvatarPart> = [b.skin, b.ears, b.sockets, b.mouth_cavity]
+    [b.skin, b.ears, b.sockets, b.mouth_cavity]
         .into_iter()
         .chain(b.eyes)
         .chain(b.teeth)
         .chain(b.gums)
         .chain([b.tongue])
         .chain(b.irises.into_iter().flatten())
+        .collect()
+}
+
+/// The avatar: one mesh of two primitives, the head lifted onto the body.
+fn avatar() -> Avatar {
+    let mixes: Vec<ShapeMix> = extras().into_iter().map(|(_, m)| m).collect();
+    let pieces: Vec<AvatarPart> = head_pieces()
+        .into_iter()
         .map(|k| {
-            let mixes: Vec<ShapeMix> = extras().into_iter().map(|(_, m)| m).collect();
             let mut p = with_mixes(base_part(k, 0, 1), &mixes);
             p.positions.iter_mut().for_each(|v| *v += HEAD_OFFSET);
             p
@@ -103,14 +112,10 @@ fn avatar() -> Avatar {
 pub fn head_box() -> (Vec<u8>, VariantTruth) {
     let avatar = avatar();
     let mut truth = plain_truth(&avatar, 1, base().true_correspondence.len());
-    // The head's pieces in the order merged: skin, ears, sockets, lining,
-    // eyes, teeth (upper, lower), gums, tongue, irises and pupils.
-    let b = base();
-    let sizes: Vec<usize> = [b.skin, b.ears, b.sockets, b.mouth_cavity]
+    // Pieces 4 and 5 are the eyes, 6 and 7 the teeth ([`head_pieces`]).
+    let sizes: Vec<usize> = head_pieces()
         .into_iter()
-        .chain(b.eyes)
-        .chain(b.teeth)
-        .map(|k| b.avatar.parts()[k].positions.len())
+        .map(|k| base().avatar.parts()[k].positions.len())
         .collect();
     let start = |i: usize| sizes[..i].iter().sum::<usize>();
     let piece = |i: usize| Piece {
